@@ -1,0 +1,55 @@
+// Initial clustering [paper Algorithm 1] and k-means [paper 3.2].
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+namespace proxseg {
+
+struct ClusteringParams {
+  double alpha = 0.85;  // chi-square confidence of the "same centroid" test (paper: 0.85)
+  int pca_dims = 4;     // features are projected on this many principal axes (docs/method.md)
+  // Centroid covariance = (n * sample + prior_weight * global) / (n + prior_weight): shrinkage
+  // towards the global feature covariance, so a one-voxel centroid has a usable metric. The
+  // default (1e6) in effect uses the global covariance for every centroid: best on mOSD learn.
+  double prior_weight = 1e6;
+};
+
+struct Centroid {
+  int n = 0;               // voxels merged into it
+  Eigen::VectorXd mu;      // mean feature
+  Eigen::MatrixXd sigma;   // sample covariance (line 14 of Algorithm 1)
+};
+
+// Principal axes of the feature rows: the space Algorithm 1, k-means and the MRF work in.
+struct FeatureSpace {
+  Eigen::VectorXd mean;        // of the raw features
+  Eigen::MatrixXd axes;        // raw dims x pca_dims, orthonormal columns
+  Eigen::VectorXd variances;   // along each axis (the global covariance there is diagonal)
+};
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
+Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& features);
+
+// Algorithm 1: breadth-first walk over the voxel graph growing centroids in feature space.
+// x: one row per voxel (projected features); neighbours: voxel graph in the same numbering.
+// global_variances: the prior covariance (diagonal) used for shrinkage.
+std::vector<Centroid> initial_centroids(const Eigen::MatrixXd& x,
+                                        const std::vector<std::vector<int>>& neighbours,
+                                        const Eigen::VectorXd& global_variances,
+                                        const ClusteringParams& params);
+
+// chi-square quantile: P(X <= q) = alpha for d degrees of freedom.
+double chi_square_quantile(double alpha, int dof);
+
+struct KMeansParams {
+  int max_iterations = 100;
+  double tolerance = 1e-6;  // stop when no centroid moves more than this (relative to the data scale)
+};
+struct KMeansResult {
+  Eigen::MatrixXd centroids;  // k x dims, empty clusters dropped
+  std::vector<int> labels;    // per row, 0..k-1
+  int iterations = 0;
+};
+// Lloyd's algorithm from the given centroids (rows).
+KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial, const KMeansParams& params);
+
+}  // namespace proxseg

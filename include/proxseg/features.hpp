@@ -1,0 +1,54 @@
+// Per-voxel features [paper 3.1]: f = [colour 110 | texture 240 | shape 104] = 454 values.
+#pragma once
+#include <proxseg/frame.hpp>
+#include <proxseg/voxels.hpp>
+
+#include <vector>
+
+namespace proxseg {
+
+constexpr int kColourDims = 110;   // 10x10 hue x saturation + 10 value
+constexpr int kTextureDims = 240;  // 6 orientations x 4 scales x 10 bins
+constexpr int kShapeDims = 104;    // 3 eigenvalues + curvature + 10x10 normal angles
+constexpr int kFeatureDims = kColourDims + kTextureDims + kShapeDims;
+constexpr int kGaborOrientations = 6;
+constexpr int kGaborScales = 4;
+constexpr int kHistogramBins = 10;
+
+struct FeatureParams {
+  bool use_colour = true, use_texture = true, use_shape = true;
+  // Each block is multiplied by its weight (a switched-off block is all zeros).
+  double colour_weight = 1.0, texture_weight = 1.0, shape_weight = 1.0;
+  double gabor_wavelength = 4.0;  // pixels, at every pyramid level (scale s = level s)
+  double gabor_sigma = 2.0;       // pixels, envelope of the Gabor kernel at each level
+  double texture_clip_quantile = 0.99;  // upper bin edge per filter = this quantile over the frame
+  int normal_step = 3;            // organized clouds: pixel offset of the central differences
+  int normal_knn = 20;            // unorganized clouds: neighbours for PCA normals
+};
+
+// Colour block of one voxel from its points' colours.
+Eigen::VectorXf colour_feature(const std::vector<Rgb>& colours);
+
+// Shape block from points and unit normals (oriented towards the sensor).
+Eigen::VectorXf shape_feature(const std::vector<Eigen::Vector3f>& points,
+                              const std::vector<Eigen::Vector3f>& normals);
+
+// Gabor magnitude responses of the frame's grey image: 24 images of width x height
+// (orientation-major: filter = scale * 6 + orientation) and the fixed upper bin edge of each.
+struct GaborBank {
+  int width = 0, height = 0;
+  std::vector<std::vector<float>> magnitude;  // [filter][pixel]
+  std::vector<float> upper_edge;              // [filter]
+};
+GaborBank gabor_bank(const Frame& frame, const FeatureParams& params);
+// Texture block of one voxel from the responses at its points' pixels.
+Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& pixels);
+
+// Unit normals per point, oriented towards the sensor (origin); NaN for invalid points.
+std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params);
+
+// Feature matrix: one row per voxel of `voxels`, kFeatureDims columns, block weights applied.
+Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid, const std::vector<int>& voxels,
+                               const FeatureParams& params, int threads);
+
+}  // namespace proxseg

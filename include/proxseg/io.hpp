@@ -1,0 +1,44 @@
+// Readers and writers for frames: PCD (ascii, binary, binary_compressed), PLY, colour + depth PNG.
+#pragma once
+#include <proxseg/frame.hpp>
+
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// Pinhole intrinsics of a depth camera. depth_scale = depth units per metre
+// (metres = value / depth_scale; 1000 for millimetre PNGs, YCB-Video's factor_depth = 10000).
+struct Intrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  double depth_scale = 1000.0;
+};
+
+// PCD with fields x y z and rgb or rgba (any order, extra fields ignored); an optional
+// integer `label` field is kept as ground truth. WIDTH/HEIGHT come from the header.
+Frame read_pcd(const std::string& path);
+// PLY point cloud or mesh vertices with colours (unorganized: height 1).
+Frame read_ply(const std::string& path);
+// Dispatches on the extension (.pcd, .ply).
+Frame read_point_cloud(const std::string& path);
+
+// {"fx":..,"fy":..,"cx":..,"cy":..,"depth_scale":..}
+Intrinsics read_intrinsics(const std::string& path);
+// YCB-Video meta JSON: intrinsic_matrix (3x3) and factor_depth.
+Intrinsics read_ycb_meta(const std::string& path);
+// 8-bit colour PNG/JPG + 16-bit depth PNG of the same size -> organized frame; depth 0 = invalid.
+Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k);
+
+// One extra per-point unsigned field written after x y z rgb (e.g. "label", "instance").
+struct PointField {
+  std::string name;
+  std::vector<std::uint32_t> values;  // one per point
+};
+// Writes a binary PCD (organized if the frame is) with fields x y z rgb and the extra fields.
+// Atomic: the file appears whole or not at all.
+void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields);
+
+// Writes bytes to path through a temporary file in the same directory and a rename.
+void write_file_atomic(const std::string& path, const std::string& bytes);
+
+}  // namespace proxseg

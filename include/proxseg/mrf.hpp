@@ -1,0 +1,50 @@
+// MRF refinement of the labels [paper 3.2, eq. 1-3]: Potts model minimised by graph cuts.
+#pragma once
+#include <Eigen/Core>
+#include <utility>
+#include <vector>
+
+namespace proxseg {
+
+enum class MrfMethod { kSwap, kExpansion };
+
+struct MrfParams {
+  bool enabled = true;
+  double unary_weight = 1.0;       // w_u (paper: 1.0)
+  double pairwise_weight = 0.275;  // w_c (paper: 0.275)
+  MrfMethod method = MrfMethod::kSwap;
+  int max_cycles = 100;            // safety cap on full sweeps over label pairs
+};
+
+// E(l) = sum_j unary(j, l_j) + sum_{(j,k) in edges} w_c [l_j != l_k]; each edge listed once.
+struct MrfProblem {
+  Eigen::MatrixXd unary;                    // nodes x labels
+  std::vector<std::pair<int, int>> edges;   // j < k
+  double pairwise_weight = 0;
+  int nodes() const { return static_cast<int>(unary.rows()); }
+  int labels() const { return static_cast<int>(unary.cols()); }
+};
+
+// Eq. 2 with the sign fixed: psi_j(l) = -w_u log(1 - d_jl / sum_l' d_jl'), d = Euclidean distance
+// from row j of x to centroid l. With k = 1 the unary is 0.
+Eigen::MatrixXd unary_potentials(const Eigen::MatrixXd& x, const Eigen::MatrixXd& centroids, double unary_weight);
+
+// Unordered neighbour pairs (j < k) of a symmetric adjacency list.
+std::vector<std::pair<int, int>> edge_list(const std::vector<std::vector<int>>& neighbours);
+
+double energy(const MrfProblem& problem, const std::vector<int>& labels);
+
+struct MrfResult {
+  std::vector<int> labels;
+  double energy_before = 0, energy_after = 0;
+  int cycles = 0;                   // full sweeps done
+  std::vector<double> energy_trace; // energy after every accepted move
+};
+
+// Alpha-beta swap moves (Boykov, Veksler, Zabih 2001) on Boost's Boykov-Kolmogorov max-flow,
+// repeated over all label pairs until no swap lowers E.
+MrfResult alpha_beta_swap(const MrfProblem& problem, std::vector<int> labels, int max_cycles);
+// Alpha-expansion moves, same contract.
+MrfResult alpha_expansion(const MrfProblem& problem, std::vector<int> labels, int max_cycles);
+
+}  // namespace proxseg

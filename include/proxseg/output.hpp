@@ -1,0 +1,20 @@
+// Segmentation outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written atomically).
+#pragma once
+#include <proxseg/pipeline.hpp>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace proxseg {
+
+// The report written to PREFIX.json: parameters, stage times, counts, energies, label sizes.
+nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
+                                   const SegmentResult& result);
+// A picture of the labels: the colour image with labels blended in and boundaries drawn
+// (organized input), or the points rendered from the sensor origin (unorganized input). PNG bytes.
+std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
+// Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all.
+void write_segmentation(const std::string& prefix, const Frame& frame, const SegmentParams& params,
+                        const SegmentResult& result);
+
+}  // namespace proxseg

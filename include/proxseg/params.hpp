@@ -1,0 +1,17 @@
+// SegmentParams <-> JSON, for config files (--config) and for echoing into every report.
+#pragma once
+#include <proxseg/pipeline.hpp>
+
+#include <nlohmann/json.hpp>
+
+namespace proxseg {
+
+nlohmann::json to_json(const SegmentParams& params);
+// Overrides the fields present in j; unknown keys or wrong types throw InputError naming the field.
+SegmentParams params_from_json(const nlohmann::json& j, SegmentParams base = {});
+// Reads a JSON config file (InputError naming file and field on failure).
+SegmentParams read_params(const std::string& path, SegmentParams base = {});
+// Checks ranges (voxel size > 0, weights >= 0, ...); throws InputError naming the field.
+void validate(const SegmentParams& params);
+
+}  // namespace proxseg

@@ -1,0 +1,43 @@
+// segment(): voxels -> features -> Algorithm 1 -> k-means -> MRF, per paper sections 3.1-3.2.
+#pragma once
+#include <proxseg/clustering.hpp>
+#include <proxseg/features.hpp>
+#include <proxseg/frame.hpp>
+#include <proxseg/mrf.hpp>
+#include <proxseg/voxels.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace proxseg {
+
+// Every parameter of the segmentation, one struct per stage, with the paper's defaults.
+struct SegmentParams {
+  VoxelParams voxels;
+  FeatureParams features;
+  ClusteringParams clustering;
+  KMeansParams kmeans;
+  MrfParams mrf;
+  int threads = 0;  // 0 = all cores; results do not depend on it
+};
+
+struct SegmentResult {
+  VoxelGrid voxels;
+  std::vector<int> clustered;          // voxels that were clustered (>= min_points_per_voxel)
+  Eigen::MatrixXf features;            // one row per clustered voxel
+  FeatureSpace space;                  // principal axes the clustering works in
+  std::vector<Centroid> initial_centroids;  // Algorithm 1
+  Eigen::MatrixXd centroids;           // after k-means (projected space)
+  std::vector<int> labels_kmeans;      // per clustered voxel, 0..k-1
+  std::vector<int> labels;             // per clustered voxel after the MRF (= k-means if off)
+  double energy_before = 0, energy_after = 0;
+  int kmeans_iterations = 0, mrf_cycles = 0;
+  std::vector<std::uint32_t> point_labels;  // per point: 0 invalid, 1..k
+  std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
+  int k() const { return static_cast<int>(centroids.rows()); }
+};
+
+SegmentResult segment(const Frame& frame, const SegmentParams& params);
+
+}  // namespace proxseg

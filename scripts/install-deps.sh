@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs proxseg's build dependencies from Debian 12's packages, only those that are missing.
+# Works as root without a TTY (CI); uses sudo when run as a normal user.
+# Usage: scripts/install-deps.sh [--bench]   (--bench adds PCL, used only by the benchmarks)
+set -euo pipefail
+
+packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
+  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(libpcl-dev)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
+  sudo=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"

@@ -1,0 +1,154 @@
+// Segmentation outputs: labelled PCD, a picture of the labels, and the JSON report.
+#include <proxseg/io.hpp>
+#include <proxseg/output.hpp>
+#include <proxseg/params.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace proxseg {
+namespace {
+
+// A distinct, reproducible colour per label (golden-ratio hue steps); label 0 is black.
+cv::Vec3b label_colour(std::uint32_t label) {
+  if (label == 0) return {0, 0, 0};
+  const double hue = std::fmod(label * 0.618033988749895, 1.0) * 180.0;
+  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(hue, 200 + 55 * (label % 2), 230));
+  cv::Mat bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  return bgr.at<cv::Vec3b>(0, 0);
+}
+
+cv::Vec3b blend(const Rgb& rgb, std::uint32_t label) {
+  const cv::Vec3b c = label_colour(label);
+  return {static_cast<uchar>((rgb[2] + c[0]) / 2), static_cast<uchar>((rgb[1] + c[1]) / 2),
+          static_cast<uchar>((rgb[0] + c[2]) / 2)};
+}
+
+// Unorganized clouds: points splatted into a 640x480 view from the sensor origin (pinhole, fitted
+// to the cloud), or orthographically along z when the cloud is not in front of the origin.
+cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labels) {
+  const int w = 640, h = 480;
+  cv::Mat image(h, w, CV_8UC3, cv::Scalar(40, 40, 40));
+  std::vector<float> depth(w * h, std::numeric_limits<float>::infinity());
+  std::size_t in_front = 0, valid = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) ++valid, in_front += frame.xyz[i].z() > 0;
+  const bool perspective = in_front >= valid * 9 / 10;
+  auto plane = [&](const Eigen::Vector3f& p) {
+    return perspective ? Eigen::Vector2f(p.x() / p.z(), p.y() / p.z()) : Eigen::Vector2f(p.x(), p.y());
+  };
+  Eigen::Vector2f lo = Eigen::Vector2f::Constant(INFINITY), hi = -lo;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i) && (!perspective || frame.xyz[i].z() > 0)) {
+      lo = lo.cwiseMin(plane(frame.xyz[i]));
+      hi = hi.cwiseMax(plane(frame.xyz[i]));
+    }
+  const Eigen::Vector2f span = (hi - lo).cwiseMax(1e-9f);
+  const float scale = 0.9f * std::min(w / span.x(), h / span.y());
+  const Eigen::Vector2f offset = Eigen::Vector2f(w, h) / 2 - scale * (lo + hi) / 2;
+  const int r = std::clamp(static_cast<int>(std::sqrt(w * h / std::max<double>(valid, 1.0)) / 2), 1, 4);
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.valid(i) || (perspective && frame.xyz[i].z() <= 0)) continue;
+    const Eigen::Vector2f q = scale * plane(frame.xyz[i]) + offset;
+    const float z = frame.xyz[i].z();
+    for (int dv = -r; dv <= r; ++dv)
+      for (int du = -r; du <= r; ++du) {
+        const int u = static_cast<int>(q.x()) + du, v = static_cast<int>(q.y()) + dv;
+        if (u < 0 || v < 0 || u >= w || v >= h || z >= depth[v * w + u]) continue;
+        depth[v * w + u] = z;
+        image.at<cv::Vec3b>(v, u) = blend(frame.rgb[i], labels[i]);
+      }
+  }
+  return image;
+}
+
+}  // namespace
+
+std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& labels) {
+  cv::Mat image;
+  if (frame.organized()) {
+    const int w = frame.width, h = frame.height;
+    image.create(h, w, CV_8UC3);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const int i = v * w + u;
+        const Rgb& c = frame.rgb[i];
+        // Invalid or unlabelled pixels are shown dimmed, labelled ones blended with their label.
+        image.at<cv::Vec3b>(v, u) = labels[i] ? blend(c, labels[i])
+                                              : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
+      }
+    // Label boundaries in white.
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const std::uint32_t l = labels[v * w + u];
+        if (!l) continue;
+        const bool edge = (u + 1 < w && labels[v * w + u + 1] && labels[v * w + u + 1] != l) ||
+                          (v + 1 < h && labels[(v + 1) * w + u] && labels[(v + 1) * w + u] != l);
+        if (edge) image.at<cv::Vec3b>(v, u) = {255, 255, 255};
+      }
+  } else {
+    image = render_points(frame, labels);
+  }
+  std::vector<uchar> png;
+  cv::imencode(".png", image, png);
+  return std::string(png.begin(), png.end());
+}
+
+nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params, const SegmentResult& r) {
+  nlohmann::json j;
+  j["parameters"] = to_json(params);
+  j["input"] = {{"width", frame.width},
+                {"height", frame.height},
+                {"organized", frame.organized()},
+                {"points", frame.size()},
+                {"valid_points", frame.valid_count()}};
+  double total = 0;
+  nlohmann::json times = nlohmann::json::object();
+  for (const auto& [stage, ms] : r.times_ms) {
+    times[stage] = ms;
+    total += ms;
+  }
+  times["total"] = total;
+  j["times_ms"] = times;
+  j["voxels"] = {{"count", r.voxels.size()}, {"clustered", r.clustered.size()}};
+  j["initial_centroids"] = r.initial_centroids.size();
+  j["k"] = r.k();
+  j["kmeans_iterations"] = r.kmeans_iterations;
+  j["mrf"] = {{"enabled", params.mrf.enabled},
+              {"energy_before", r.energy_before},
+              {"energy_after", r.energy_after},
+              {"cycles", r.mrf_cycles}};
+  std::map<std::uint32_t, std::size_t> sizes;
+  for (std::uint32_t l : r.point_labels)
+    if (l) ++sizes[l];
+  nlohmann::json labels = nlohmann::json::array();
+  for (const auto& [label, points] : sizes) labels.push_back({{"label", label}, {"points", points}});
+  j["labels"] = labels;
+  return j;
+}
+
+void write_segmentation(const std::string& prefix, const Frame& frame, const SegmentParams& params,
+                        const SegmentResult& result) {
+  // Everything is produced in memory first so that a failure leaves no partial set of files.
+  const std::string png = label_image_png(frame, result.point_labels);
+  const std::string report = segmentation_report(frame, params, result).dump(2) + "\n";
+  std::vector<std::string> written;
+  try {
+    write_pcd(prefix + ".pcd", frame, {{"label", result.point_labels}});
+    written.push_back(prefix + ".pcd");
+    write_file_atomic(prefix + ".png", png);
+    written.push_back(prefix + ".png");
+    write_file_atomic(prefix + ".json", report);
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& f : written) std::filesystem::remove(f, ec);
+    throw;
+  }
+}
+
+}  // namespace proxseg

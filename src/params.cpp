@@ -1,0 +1,158 @@
+// SegmentParams <-> JSON. Every parameter is listed once, in fields(); to_json, params_from_json
+// and the CLI's config handling all go through that list.
+#include <proxseg/params.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace proxseg {
+
+void to_json(nlohmann::json& j, MrfMethod m) { j = m == MrfMethod::kSwap ? "swap" : "expansion"; }
+
+namespace {
+
+using nlohmann::json;
+
+// (section, key, reference) for every parameter; section "" is the top level.
+template <class P, class F>
+void fields(P& p, F&& f) {
+  f("voxels", "voxel_size", p.voxels.voxel_size);
+  f("voxels", "min_points_per_voxel", p.voxels.min_points_per_voxel);
+  f("features", "use_colour", p.features.use_colour);
+  f("features", "use_texture", p.features.use_texture);
+  f("features", "use_shape", p.features.use_shape);
+  f("features", "colour_weight", p.features.colour_weight);
+  f("features", "texture_weight", p.features.texture_weight);
+  f("features", "shape_weight", p.features.shape_weight);
+  f("features", "gabor_wavelength", p.features.gabor_wavelength);
+  f("features", "gabor_sigma", p.features.gabor_sigma);
+  f("features", "texture_clip_quantile", p.features.texture_clip_quantile);
+  f("features", "normal_step", p.features.normal_step);
+  f("features", "normal_knn", p.features.normal_knn);
+  f("clustering", "alpha", p.clustering.alpha);
+  f("clustering", "pca_dims", p.clustering.pca_dims);
+  f("clustering", "prior_weight", p.clustering.prior_weight);
+  f("kmeans", "max_iterations", p.kmeans.max_iterations);
+  f("kmeans", "tolerance", p.kmeans.tolerance);
+  f("mrf", "enabled", p.mrf.enabled);
+  f("mrf", "unary_weight", p.mrf.unary_weight);
+  f("mrf", "pairwise_weight", p.mrf.pairwise_weight);
+  f("mrf", "method", p.mrf.method);
+  f("mrf", "max_cycles", p.mrf.max_cycles);
+  f("", "threads", p.threads);
+}
+
+std::string field_name(const std::string& section, const std::string& key) {
+  return section.empty() ? key : section + "." + key;
+}
+
+[[noreturn]] void wrong_type(const std::string& name, const char* expected, const json& v) {
+  throw InputError("field " + name + ": expected " + expected + ", got " + v.dump());
+}
+
+void read_value(const std::string& name, const json& v, double& out) {
+  if (!v.is_number()) wrong_type(name, "a number", v);
+  out = v.get<double>();
+}
+void read_value(const std::string& name, const json& v, int& out) {
+  if (!v.is_number_integer()) wrong_type(name, "an integer", v);
+  out = v.get<int>();
+}
+void read_value(const std::string& name, const json& v, bool& out) {
+  if (!v.is_boolean()) wrong_type(name, "true or false", v);
+  out = v.get<bool>();
+}
+void read_value(const std::string& name, const json& v, MrfMethod& out) {
+  if (v == "swap")
+    out = MrfMethod::kSwap;
+  else if (v == "expansion")
+    out = MrfMethod::kExpansion;
+  else
+    wrong_type(name, "\"swap\" or \"expansion\"", v);
+}
+
+}  // namespace
+
+json to_json(const SegmentParams& params) {
+  json j = json::object();
+  fields(params, [&](const std::string& section, const std::string& key, const auto& value) {
+    if (section.empty())
+      j[key] = value;
+    else
+      j[section][key] = value;
+  });
+  return j;
+}
+
+SegmentParams params_from_json(const json& j, SegmentParams base) {
+  if (!j.is_object()) throw InputError("config: expected a JSON object, got " + j.dump());
+  // Unknown keys are errors: a typo must not silently leave a default in place.
+  std::set<std::string> sections, known;
+  fields(base, [&](const std::string& section, const std::string& key, auto&) {
+    sections.insert(section);
+    known.insert(field_name(section, key));
+  });
+  for (const auto& [key, value] : j.items()) {
+    if (sections.count(key)) {
+      if (!value.is_object()) wrong_type(key, "an object", value);
+      for (const auto& [sub, ignored] : value.items())
+        if (!known.count(key + "." + sub)) throw InputError("config: unknown key " + key + "." + sub);
+    } else if (!known.count(key)) {
+      throw InputError("config: unknown key " + key);
+    }
+  }
+  fields(base, [&](const std::string& section, const std::string& key, auto& value) {
+    const json* v = section.empty() ? &j : (j.contains(section) ? &j.at(section) : nullptr);
+    if (v && v->contains(key)) read_value(field_name(section, key), v->at(key), value);
+  });
+  validate(base);
+  return base;
+}
+
+SegmentParams read_params(const std::string& path, SegmentParams base) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open config file");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw InputError(path + ": not valid JSON (" + e.what() + ")");
+  }
+  try {
+    return params_from_json(j, base);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+void validate(const SegmentParams& p) {
+  auto require = [](bool ok, const char* field, const char* expected) {
+    if (!ok) throw InputError(std::string("field ") + field + ": expected " + expected);
+  };
+  auto finite = [](double v) { return std::isfinite(v); };
+  require(finite(p.voxels.voxel_size) && p.voxels.voxel_size > 0, "voxels.voxel_size", "a positive size in metres");
+  require(p.voxels.min_points_per_voxel >= 1, "voxels.min_points_per_voxel", ">= 1");
+  require(finite(p.features.colour_weight) && p.features.colour_weight >= 0, "features.colour_weight", ">= 0");
+  require(finite(p.features.texture_weight) && p.features.texture_weight >= 0, "features.texture_weight", ">= 0");
+  require(finite(p.features.shape_weight) && p.features.shape_weight >= 0, "features.shape_weight", ">= 0");
+  require(finite(p.features.gabor_wavelength) && p.features.gabor_wavelength >= 2, "features.gabor_wavelength",
+          ">= 2 pixels (Nyquist)");
+  require(finite(p.features.gabor_sigma) && p.features.gabor_sigma > 0, "features.gabor_sigma", "> 0 pixels");
+  require(p.features.texture_clip_quantile > 0 && p.features.texture_clip_quantile <= 1,
+          "features.texture_clip_quantile", "in (0, 1]");
+  require(p.features.normal_step >= 1 && p.features.normal_step <= 50, "features.normal_step", "1..50 pixels");
+  require(p.features.normal_knn >= 3, "features.normal_knn", ">= 3");
+  require(p.clustering.alpha > 0 && p.clustering.alpha < 1, "clustering.alpha", "in (0, 1)");
+  require(p.clustering.pca_dims >= 1 && p.clustering.pca_dims <= kFeatureDims, "clustering.pca_dims", "1..454");
+  require(finite(p.clustering.prior_weight) && p.clustering.prior_weight > 0, "clustering.prior_weight", "> 0");
+  require(p.kmeans.max_iterations >= 1, "kmeans.max_iterations", ">= 1");
+  require(finite(p.kmeans.tolerance) && p.kmeans.tolerance >= 0, "kmeans.tolerance", ">= 0");
+  require(finite(p.mrf.unary_weight) && p.mrf.unary_weight >= 0, "mrf.unary_weight", ">= 0");
+  require(finite(p.mrf.pairwise_weight) && p.mrf.pairwise_weight >= 0, "mrf.pairwise_weight", ">= 0");
+  require(p.mrf.max_cycles >= 1, "mrf.max_cycles", ">= 1");
+  require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
+}
+
+}  // namespace proxseg

@@ -1,0 +1,109 @@
+// segment(): the paper's sections 3.1-3.2, top to bottom.
+#include <proxseg/params.hpp>
+#include <proxseg/pipeline.hpp>
+
+#include <open3d/geometry/KDTreeFlann.h>
+
+#include <chrono>
+
+namespace proxseg {
+namespace {
+
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// Every valid point takes the label of its voxel; points of voxels too sparse to be clustered
+// take the label of the nearest clustered voxel (by voxel centroid).
+std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
+                                        const std::vector<int>& clustered, const std::vector<int>& labels) {
+  std::vector<int> voxel_label(grid.size(), -1);
+  for (std::size_t i = 0; i < clustered.size(); ++i) voxel_label[clustered[i]] = labels[i];
+  auto centroid = [&](int v) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int p : grid.points[v]) c += frame.xyz[p].cast<double>();
+    return Eigen::Vector3d(c / static_cast<double>(grid.points[v].size()));
+  };
+  if (clustered.size() < grid.size() && !clustered.empty()) {
+    Eigen::MatrixXd centres(3, clustered.size());
+    for (std::size_t i = 0; i < clustered.size(); ++i) centres.col(i) = centroid(clustered[i]);
+    open3d::geometry::KDTreeFlann tree(centres);
+    std::vector<int> index(1);
+    std::vector<double> dist2(1);
+    for (std::size_t v = 0; v < grid.size(); ++v)
+      if (voxel_label[v] < 0 && tree.SearchKNN(centroid(static_cast<int>(v)), 1, index, dist2) == 1)
+        voxel_label[v] = labels[index[0]];
+  }
+  std::vector<std::uint32_t> out(frame.size(), 0);
+  for (std::size_t p = 0; p < frame.size(); ++p) {
+    const int v = grid.voxel_of_point[p];
+    if (v >= 0 && voxel_label[v] >= 0) out[p] = static_cast<std::uint32_t>(voxel_label[v] + 1);
+  }
+  return out;
+}
+
+}  // namespace
+
+SegmentResult segment(const Frame& frame, const SegmentParams& params) {
+  validate(params);
+  SegmentResult r;
+  Stopwatch watch;
+
+  // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
+  r.voxels = build_voxels(frame, params.voxels.voxel_size);
+  if (r.voxels.size() == 0) throw InputError("frame: no valid points to segment");
+  r.clustered = dense_voxels(r.voxels, params.voxels.min_points_per_voxel);
+  if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
+  const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
+  r.times_ms.emplace_back("voxels", watch.lap());
+
+  // 2. Features [3.1]: colour | texture | shape per voxel.
+  r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
+  r.times_ms.emplace_back("features", watch.lap());
+
+  // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
+  r.space = principal_axes(r.features, params.clustering.pca_dims);
+  const Eigen::MatrixXd x = project(r.space, r.features);
+  r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
+  r.times_ms.emplace_back("initial_clustering", watch.lap());
+
+  // 4. k-means [3.2] from Algorithm 1's centroids.
+  Eigen::MatrixXd start(r.initial_centroids.size(), x.cols());
+  for (std::size_t s = 0; s < r.initial_centroids.size(); ++s) start.row(s) = r.initial_centroids[s].mu.transpose();
+  KMeansResult km = kmeans(x, start, params.kmeans);
+  r.centroids = km.centroids;
+  r.labels_kmeans = km.labels;
+  r.kmeans_iterations = km.iterations;
+  r.times_ms.emplace_back("kmeans", watch.lap());
+
+  // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
+  MrfProblem problem{unary_potentials(x, r.centroids, params.mrf.unary_weight), edge_list(graph),
+                     params.mrf.pairwise_weight};
+  r.labels = r.labels_kmeans;
+  r.energy_before = r.energy_after = energy(problem, r.labels);
+  if (params.mrf.enabled && r.k() > 1) {
+    const MrfResult mrf = params.mrf.method == MrfMethod::kSwap
+                              ? alpha_beta_swap(problem, r.labels, params.mrf.max_cycles)
+                              : alpha_expansion(problem, r.labels, params.mrf.max_cycles);
+    r.labels = mrf.labels;
+    r.energy_after = mrf.energy_after;
+    r.mrf_cycles = mrf.cycles;
+  }
+  r.times_ms.emplace_back("mrf", watch.lap());
+
+  // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
+  r.point_labels = label_points(frame, r.voxels, r.clustered, r.labels);
+  r.times_ms.emplace_back("point_labels", watch.lap());
+  return r;
+}
+
+}  // namespace proxseg

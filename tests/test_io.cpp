@@ -1,0 +1,690 @@
+// Tests of the input/output layer: real data files, hand-made PCDs, round trips, and errors.
+#include <gtest/gtest.h>
+#include <iostream>
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <proxseg/io.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using proxseg::Frame;
+using proxseg::InputError;
+
+namespace {
+
+const std::string kData = PROXSEG_DATA_DIR;
+const float kNan = std::numeric_limits<float>::quiet_NaN();
+
+std::string tmp_dir() {
+  const fs::path d = fs::path(PROXSEG_TEST_TMP) / "io";
+  fs::create_directories(d);
+  return d.string();
+}
+
+std::string tmp_path(const std::string& name) {
+  return (fs::path(tmp_dir()) / name).string();
+}
+
+std::string write_bytes(const std::string& name, const std::string& bytes) {
+  const std::string path = tmp_path(name);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+template <typename T>
+void append(std::string& s, T v) {
+  s.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+float packed_rgb_float(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
+  const std::uint32_t v = (r << 16) | (g << 8) | b;
+  float f;
+  std::memcpy(&f, &v, 4);
+  return f;
+}
+
+// Shortest text that parses back to exactly the same float.
+std::string float_text(float f) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof(buf), f);
+  return std::string(buf, r.ptr);
+}
+
+// A valid LZF stream made only of literal runs (ctrl = run length - 1, at most 32 bytes).
+std::string lzf_literals(const std::string& raw) {
+  std::string out;
+  for (std::size_t i = 0; i < raw.size(); i += 32) {
+    const std::size_t run = std::min<std::size_t>(32, raw.size() - i);
+    out += static_cast<char>(run - 1);
+    out += raw.substr(i, run);
+  }
+  return out;
+}
+
+std::string compressed_block(const std::string& lzf, std::uint32_t uncompressed_size) {
+  std::string s;
+  append<std::uint32_t>(s, static_cast<std::uint32_t>(lzf.size()));
+  append<std::uint32_t>(s, uncompressed_size);
+  return s + lzf;
+}
+
+// Runs fn, expects InputError whose one-line message contains every part.
+void expect_input_error(const std::function<void()>& fn, const std::vector<std::string>& parts) {
+  try {
+    fn();
+    ADD_FAILURE() << "expected InputError mentioning " << parts.front();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    for (const auto& p : parts)
+      EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+  }
+}
+
+std::string header(const std::string& fields, const std::string& size, const std::string& type,
+                   const std::string& count, int width, int height, long points,
+                   const std::string& data) {
+  std::ostringstream h;
+  h << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " << fields << "\nSIZE "
+    << size << "\nTYPE " << type << "\nCOUNT " << count << "\nWIDTH " << width << "\nHEIGHT "
+    << height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points << "\nDATA " << data << "\n";
+  return h.str();
+}
+
+// Binary x y z rgb (float) cloud of n points, point i = (i, 2i, 3i + 1), colour (i, 10, 20).
+std::string binary_xyzrgb(int n, int points_in_header) {
+  std::string s = header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", points_in_header, 1,
+                         points_in_header, "binary");
+  for (int i = 0; i < n; ++i) {
+    append<float>(s, static_cast<float>(i));
+    append<float>(s, 2.0f * i);
+    append<float>(s, 3.0f * i + 1);
+    append<float>(s, packed_rgb_float(static_cast<std::uint32_t>(i), 10, 20));
+  }
+  return s;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+// Real data
+
+TEST(IoReal, MosdLearn0HasOrganizedGridLabelsAndNaNs) {
+  const Frame f = proxseg::read_pcd(kData + "/mosd/learn/learn0.pcd");
+  EXPECT_EQ(f.width, 640);
+  EXPECT_EQ(f.height, 480);
+  EXPECT_TRUE(f.organized());
+  ASSERT_EQ(f.size(), 307200u);
+  ASSERT_EQ(f.rgb.size(), 307200u);
+  ASSERT_EQ(f.label.size(), 307200u);
+  const std::size_t valid = f.valid_count();
+  EXPECT_GT(valid, 150000u);  // 182292 in this scene
+  EXPECT_LT(valid, 307200u);  // and some NaN (no return) points
+  std::set<std::uint32_t> labels;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    labels.insert(f.label[i]);
+    // mOSD: label 0 exactly on invalid points, table parts 1-9, objects >= 20.
+    EXPECT_EQ(f.valid(i), f.label[i] != 0) << "point " << i;
+    EXPECT_TRUE(f.label[i] < 10 || f.label[i] >= 20) << f.label[i];
+    if (f.valid(i)) {
+      EXPECT_GT(f.xyz[i].z(), 0.3f);
+      EXPECT_LT(f.xyz[i].z(), 3.0f);
+    }
+  }
+  EXPECT_TRUE(labels.count(0));
+  EXPECT_TRUE(labels.count(1));
+  EXPECT_GE(*labels.rbegin(), 20u);
+  EXPECT_GE(std::count_if(labels.begin(), labels.end(), [](std::uint32_t l) { return l >= 20; }),
+            2);  // at least two objects
+  // First valid point (row 155), checked against Open3D's PCD reader.
+  std::size_t first = 0;
+  while (!f.valid(first)) ++first;
+  EXPECT_EQ(first, 99213u);
+  EXPECT_NEAR(f.xyz[first].x(), -0.745525f, 1e-5);
+  EXPECT_NEAR(f.xyz[first].y(), -0.205536f, 1e-5);
+  EXPECT_NEAR(f.xyz[first].z(), 1.277f, 1e-5);
+  EXPECT_EQ(f.rgb[first], (proxseg::Rgb{205, 183, 169}));
+}
+
+TEST(IoReal, MilkIsUnorganized) {
+  const Frame f = proxseg::read_point_cloud(kData + "/pcl/milk.pcd");
+  EXPECT_EQ(f.width, 12575);
+  EXPECT_EQ(f.height, 1);
+  EXPECT_FALSE(f.organized());
+  EXPECT_EQ(f.size(), 12575u);
+  EXPECT_EQ(f.valid_count(), 12575u);
+  EXPECT_TRUE(f.label.empty());
+  EXPECT_NEAR(f.xyz[0].x(), 0.185442f, 1e-5);
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{0, 0, 255}));
+}
+
+TEST(IoReal, TableSceneMugHasFloatRgb) {
+  const Frame f = proxseg::read_point_cloud(kData + "/pcl/table_scene_mug_stereo_textured.pcd");
+  EXPECT_EQ(f.width, 640);
+  EXPECT_EQ(f.height, 480);
+  ASSERT_EQ(f.size(), 307200u);
+  std::size_t coloured = 0, distinct_rg = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    coloured += f.rgb[i] != proxseg::Rgb{0, 0, 0};
+    distinct_rg += f.rgb[i][0] != f.rgb[i][2];
+  }
+  EXPECT_GT(coloured, f.size() / 2);
+  EXPECT_GT(distinct_rg, 1000u);  // real colours, not grey or zero
+  EXPECT_GT(f.valid_count(), 100000u);
+  EXPECT_LT(f.valid_count(), f.size());
+}
+
+TEST(IoReal, YcbFrameFromPngsAndMeta) {
+  const std::string base = kData + "/ycbv/frames/000001";
+  const proxseg::Intrinsics k = proxseg::read_ycb_meta(base + "-meta.json");
+  EXPECT_NEAR(k.fx, 1066.778, 1e-9);
+  EXPECT_NEAR(k.fy, 1067.487, 1e-9);
+  EXPECT_NEAR(k.cx, 312.9869, 1e-9);
+  EXPECT_NEAR(k.cy, 241.3109, 1e-9);
+  EXPECT_EQ(k.depth_scale, 10000.0);
+  const Frame f = proxseg::read_rgbd(base + "-color.png", base + "-depth.png", k);
+  EXPECT_EQ(f.width, 640);
+  EXPECT_EQ(f.height, 480);
+  ASSERT_EQ(f.size(), 640u * 480u);
+  EXPECT_GT(f.valid_count(), 200000u);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.valid(i)) continue;
+    const float z = f.xyz[i].z();
+    ASSERT_GT(z, 0.2f);
+    ASSERT_LT(z, 3.0f);
+    const double u = static_cast<double>(i % 640), v = static_cast<double>(i / 640);
+    ASSERT_NEAR(f.xyz[i].x() * k.fx / z + k.cx, u, 1e-3);
+    ASSERT_NEAR(f.xyz[i].y() * k.fy / z + k.cy, v, 1e-3);
+  }
+}
+
+TEST(IoReal, LinemodPlyMeshVerticesWithColours) {
+  const Frame f = proxseg::read_point_cloud(kData + "/lmo/models/obj_000001.ply");
+  EXPECT_EQ(f.height, 1);
+  EXPECT_EQ(f.width, 5841);
+  ASSERT_EQ(f.size(), 5841u);  // the vertices, faces ignored
+  // First vertex line: -23.0565 17.4191 -6.756 ... 148 57 57 255
+  EXPECT_NEAR(f.xyz[0].x(), -23.0565f, 1e-4);
+  EXPECT_NEAR(f.xyz[0].y(), 17.4191f, 1e-4);
+  EXPECT_NEAR(f.xyz[0].z(), -6.756f, 1e-4);
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{148, 57, 57}));
+  EXPECT_TRUE(f.label.empty());
+}
+
+// ------------------------------------------------------------------------------------------------
+// Hand-made PCDs
+
+TEST(IoPcd, AsciiWithFloatRgbLabelAndSkippedMultiValueField) {
+  std::string s = header("x y z normal rgb label", "4 4 4 4 4 2", "F F F F F U", "1 1 1 3 1 1", 3,
+                         1, 3, "ascii");
+  s += "0.5 -1.25 2 0 0 1 " + float_text(packed_rgb_float(255, 128, 1)) + " 7\n";
+  s += "nan nan nan 0 0 0 " + float_text(packed_rgb_float(0, 0, 0)) + " 0\n";
+  s += "\n";  // blank lines are skipped
+  s += "+1e-1 2.5E0 -3 1 0 0 " + float_text(packed_rgb_float(1, 2, 3)) + " 65535";  // no final \n
+  const Frame f = proxseg::read_pcd(write_bytes("ascii.pcd", s));
+  EXPECT_EQ(f.width, 3);
+  EXPECT_EQ(f.height, 1);
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f.xyz[0], Eigen::Vector3f(0.5f, -1.25f, 2.0f));
+  EXPECT_FALSE(f.valid(1));
+  EXPECT_EQ(f.xyz[2], Eigen::Vector3f(0.1f, 2.5f, -3.0f));
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{255, 128, 1}));
+  EXPECT_EQ(f.rgb[2], (proxseg::Rgb{1, 2, 3}));
+  EXPECT_EQ(f.label, (std::vector<std::uint32_t>{7, 0, 65535}));
+}
+
+TEST(IoPcd, AsciiWithIntegerRgbaOrganized) {
+  std::string s = header("rgba x y z", "4 4 4 4", "U F F F", "1 1 1 1", 2, 2, 4, "ascii");
+  s += "16711680 1 2 3\n65280 4 5 6\r\n255 7 8 9\n4294967295 10 11 12\n";  // CRLF tolerated
+  const Frame f = proxseg::read_pcd(write_bytes("ascii_rgba.pcd", s));
+  EXPECT_EQ(f.width, 2);
+  EXPECT_EQ(f.height, 2);
+  EXPECT_TRUE(f.organized());
+  ASSERT_EQ(f.size(), 4u);
+  EXPECT_TRUE(f.label.empty());
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{255, 0, 0}));
+  EXPECT_EQ(f.rgb[1], (proxseg::Rgb{0, 255, 0}));
+  EXPECT_EQ(f.rgb[2], (proxseg::Rgb{0, 0, 255}));
+  EXPECT_EQ(f.rgb[3], (proxseg::Rgb{255, 255, 255}));  // alpha byte dropped
+  EXPECT_EQ(f.xyz[3], Eigen::Vector3f(10, 11, 12));
+}
+
+TEST(IoPcd, BinaryMixedTypesPaddingAndDoubleX) {
+  // rgba first, a 1-byte padding field, x as double, signed 4-byte label.
+  std::string s =
+      header("rgba _ x y z label", "4 1 8 4 4 4", "U U F F F I", "1 1 1 1 1 1", 2, 1, 2, "binary");
+  const std::uint32_t colours[2] = {0xFF102030u, 0x00405060u};
+  for (int i = 0; i < 2; ++i) {
+    append<std::uint32_t>(s, colours[i]);
+    append<std::uint8_t>(s, 0xAB);
+    append<double>(s, i == 0 ? 1.5 : std::numeric_limits<double>::quiet_NaN());
+    append<float>(s, -2.0f);
+    append<float>(s, 3.25f);
+    append<std::int32_t>(s, 40 + i);
+  }
+  s += "trailing bytes are ignored";
+  const Frame f = proxseg::read_pcd(write_bytes("binary.pcd", s));
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_EQ(f.xyz[0], Eigen::Vector3f(1.5f, -2.0f, 3.25f));
+  EXPECT_FALSE(f.valid(1));  // NaN x kept in file order
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{0x10, 0x20, 0x30}));
+  EXPECT_EQ(f.rgb[1], (proxseg::Rgb{0x40, 0x50, 0x60}));
+  EXPECT_EQ(f.label, (std::vector<std::uint32_t>{40, 41}));
+}
+
+// Field-by-field layout: all x, all y, all z, all rgb, all labels (U1).
+std::string compressed_raw_3pts() {
+  std::string raw;
+  for (float x : {1.f, 2.f, 3.f}) append<float>(raw, x);
+  for (float y : {10.f, kNan, 30.f}) append<float>(raw, y);
+  for (float z : {0.5f, 0.6f, 0.7f}) append<float>(raw, z);
+  for (std::uint32_t c : {0x010203u, 0x040506u, 0x070809u}) append<std::uint32_t>(raw, c);
+  return raw;
+}
+
+TEST(IoPcd, BinaryCompressedLiteralRunsFieldByField) {
+  std::string raw = compressed_raw_3pts();
+  for (std::uint8_t l : {3, 4, 5}) append<std::uint8_t>(raw, l);
+  const std::string s = header("x y z rgba label", "4 4 4 4 1", "F F F U U", "1 1 1 1 1", 3, 1, 3,
+                               "binary_compressed") +
+                        compressed_block(lzf_literals(raw), static_cast<std::uint32_t>(raw.size()));
+  const Frame f = proxseg::read_pcd(write_bytes("compressed.pcd", s));
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(f.xyz[0], Eigen::Vector3f(1, 10, 0.5f));
+  EXPECT_FALSE(f.valid(1));
+  EXPECT_EQ(f.xyz[2], Eigen::Vector3f(3, 30, 0.7f));
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{1, 2, 3}));
+  EXPECT_EQ(f.rgb[2], (proxseg::Rgb{7, 8, 9}));
+  EXPECT_EQ(f.label, (std::vector<std::uint32_t>{3, 4, 5}));
+}
+
+TEST(IoPcd, BinaryCompressedBackReference) {
+  // 4 points; the label field (U1, all 9) is one literal byte followed by a back-reference
+  // ctrl = (len - 2) << 5 = 1 << 5, offset byte 0 (offset 1): copies 3 bytes overlapping itself.
+  std::string x, y, z, c;
+  for (int i = 0; i < 4; ++i) {
+    append<float>(x, static_cast<float>(i));
+    append<float>(y, 1.f);
+    append<float>(z, 2.f);
+    append<std::uint32_t>(c, 0x112233u);
+  }
+  const std::string raw = x + y + z + c;
+  std::string lzf = lzf_literals(raw);
+  lzf += std::string("\x00\x09", 2);
+  lzf += static_cast<char>(1 << 5);
+  lzf += static_cast<char>(0);
+  const std::string s = header("x y z rgb label", "4 4 4 4 1", "F F F F U", "1 1 1 1 1", 4, 1, 4,
+                               "binary_compressed") +
+                        compressed_block(lzf, static_cast<std::uint32_t>(raw.size() + 4));
+  const Frame f = proxseg::read_pcd(write_bytes("compressed_backref.pcd", s));
+  EXPECT_EQ(f.label, (std::vector<std::uint32_t>{9, 9, 9, 9}));
+  EXPECT_EQ(f.xyz[3], Eigen::Vector3f(3, 1, 2));
+  EXPECT_EQ(f.rgb[3], (proxseg::Rgb{0x11, 0x22, 0x33}));
+}
+
+TEST(IoPcd, CorruptCompressedNeverCrashes) {
+  // Every truncation and every single-byte change of a small compressed file either reads or
+  // throws InputError naming the file.
+  std::string raw = compressed_raw_3pts();
+  const std::string good =
+      header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 3, 1, 3, "binary_compressed") +
+      compressed_block(lzf_literals(raw), static_cast<std::uint32_t>(raw.size()));
+  const std::size_t data_start = good.find("DATA binary_compressed\n") + 23;
+  int errors = 0;
+  for (std::size_t len = data_start; len < good.size(); ++len) {
+    const std::string path = write_bytes("cut.pcd", good.substr(0, len));
+    expect_input_error([&] { proxseg::read_pcd(path); }, {"cut.pcd"});
+    ++errors;
+  }
+  for (std::size_t i = data_start; i < data_start + 10; ++i) {
+    for (int v : {0x00, 0x1f, 0x20, 0xe0, 0xff}) {
+      std::string bad = good;
+      bad[i] = static_cast<char>(v);
+      const std::string path = write_bytes("flip.pcd", bad);
+      try {
+        proxseg::read_pcd(path);
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("flip.pcd"), std::string::npos);
+        ++errors;
+      }
+    }
+  }
+  EXPECT_GT(errors, 40);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Writing
+
+TEST(IoWrite, PcdRoundTripOrganizedWithLabels) {
+  Frame f;
+  f.width = 3;
+  f.height = 2;
+  for (int i = 0; i < 6; ++i) {
+    f.xyz.emplace_back(0.1f * i, -0.2f * i, 1.0f + i);
+    f.rgb.push_back({static_cast<std::uint8_t>(40 * i), static_cast<std::uint8_t>(255 - i), 7});
+  }
+  f.xyz[4] = Eigen::Vector3f(kNan, kNan, kNan);
+  const std::vector<std::uint32_t> labels = {0, 1, 20, 21, 0, 4000000000u};
+  const std::string path = tmp_path("roundtrip.pcd");
+  proxseg::write_pcd(path, f, {{"label", labels}, {"instance", {1, 2, 3, 4, 5, 6}}});
+
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("VERSION 0.7\nFIELDS x y z rgb label instance\nSIZE 4 4 4 4 4 4\n"
+                      "TYPE F F F F U U\nCOUNT 1 1 1 1 1 1\nWIDTH 3\nHEIGHT 2\n"
+                      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 6\nDATA binary\n"),
+            std::string::npos);
+  EXPECT_EQ(text.size(), text.find("DATA binary\n") + 12 + 6 * 24);
+
+  const Frame g = proxseg::read_point_cloud(path);
+  EXPECT_EQ(g.width, 3);
+  EXPECT_EQ(g.height, 2);
+  ASSERT_EQ(g.size(), 6u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(g.valid(i), i != 4);
+    if (i != 4) {
+      EXPECT_EQ(g.xyz[i], f.xyz[i]);
+    }
+    EXPECT_EQ(g.rgb[i], f.rgb[i]);
+  }
+  EXPECT_EQ(g.label, labels);
+  // No temporary files left next to it.
+  for (const auto& e : fs::directory_iterator(tmp_dir()))
+    EXPECT_EQ(e.path().filename().string().find(".roundtrip.pcd.tmp"), std::string::npos);
+}
+
+TEST(IoWrite, PcdRejectsWrongFieldLength) {
+  Frame f;
+  f.width = 2;
+  f.height = 1;
+  f.xyz = {{0, 0, 1}, {1, 0, 1}};
+  f.rgb = {{1, 2, 3}, {4, 5, 6}};
+  const std::string path = tmp_path("bad_field.pcd");
+  fs::remove(path);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"label", {1}}}), std::invalid_argument);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"rgb", {1, 2}}}), std::invalid_argument);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"two words", {1, 2}}}), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST(IoWrite, AtomicWriteReplacesAndFailsCleanly) {
+  const std::string path = tmp_path("atomic.txt");
+  proxseg::write_file_atomic(path, "first");
+  proxseg::write_file_atomic(path, "second, longer");
+  std::ifstream in(path);
+  std::string content;
+  std::getline(in, content);
+  EXPECT_EQ(content, "second, longer");
+
+  const fs::path missing_dir = fs::path(tmp_dir()) / "no_such_dir";
+  fs::remove_all(missing_dir);
+  const std::string bad = (missing_dir / "out.pcd").string();
+  expect_input_error([&] { proxseg::write_file_atomic(bad, "x"); }, {bad, "cannot write"});
+  EXPECT_FALSE(fs::exists(missing_dir));
+
+  Frame f;
+  f.width = 1;
+  f.height = 1;
+  f.xyz = {{0, 0, 1}};
+  f.rgb = {{1, 2, 3}};
+  expect_input_error([&] { proxseg::write_pcd(bad, f, {}); }, {"out.pcd", "cannot write"});
+  EXPECT_FALSE(fs::exists(missing_dir));
+
+  // The target is a directory: the rename fails, the temporary file is removed.
+  const fs::path as_dir = fs::path(tmp_dir()) / "a_directory";
+  fs::create_directories(as_dir / "child");
+  expect_input_error([&] { proxseg::write_file_atomic(as_dir.string(), "x"); }, {"a_directory"});
+  for (const auto& e : fs::directory_iterator(tmp_dir()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+}
+
+// ------------------------------------------------------------------------------------------------
+// RGB-D and intrinsics
+
+namespace {
+proxseg::Intrinsics small_k() {
+  proxseg::Intrinsics k;
+  k.fx = 100;
+  k.fy = 200;
+  k.cx = 1;
+  k.cy = 0.5;
+  k.depth_scale = 1000;
+  return k;
+}
+}  // namespace
+
+TEST(IoRgbd, SyntheticPngsGiveBackProjectedPoints) {
+  cv::Mat color(2, 3, CV_8UC3, cv::Scalar(0, 0, 0));
+  color.at<cv::Vec3b>(0, 0) = {0, 0, 255};  // BGR red
+  color.at<cv::Vec3b>(1, 2) = {255, 128, 0};
+  cv::Mat depth(2, 3, CV_16UC1, cv::Scalar(0));
+  depth.at<std::uint16_t>(0, 0) = 1000;  // 1 m
+  depth.at<std::uint16_t>(1, 2) = 2500;
+  const std::string cpath = tmp_path("c.png"), dpath = tmp_path("d.png");
+  ASSERT_TRUE(cv::imwrite(cpath, color));
+  ASSERT_TRUE(cv::imwrite(dpath, depth));
+  const Frame f = proxseg::read_rgbd(cpath, dpath, small_k());
+  EXPECT_EQ(f.width, 3);
+  EXPECT_EQ(f.height, 2);
+  ASSERT_EQ(f.size(), 6u);
+  EXPECT_EQ(f.valid_count(), 2u);
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{255, 0, 0}));
+  EXPECT_EQ(f.rgb[5], (proxseg::Rgb{0, 128, 255}));
+  EXPECT_NEAR(f.xyz[0].x(), (0 - 1) * 1.0 / 100, 1e-6);
+  EXPECT_NEAR(f.xyz[0].y(), (0 - 0.5) * 1.0 / 200, 1e-6);
+  EXPECT_NEAR(f.xyz[0].z(), 1.0, 1e-6);
+  EXPECT_NEAR(f.xyz[5].x(), (2 - 1) * 2.5 / 100, 1e-6);
+  EXPECT_NEAR(f.xyz[5].y(), (1 - 0.5) * 2.5 / 200, 1e-6);
+  EXPECT_NEAR(f.xyz[5].z(), 2.5, 1e-6);
+  EXPECT_FALSE(f.valid(1));
+
+  // Grey colour images are accepted.
+  cv::Mat grey(2, 3, CV_8UC1, cv::Scalar(77));
+  const std::string gpath = tmp_path("g.png");
+  ASSERT_TRUE(cv::imwrite(gpath, grey));
+  const Frame g = proxseg::read_rgbd(gpath, dpath, small_k());
+  EXPECT_EQ(g.rgb[3], (proxseg::Rgb{77, 77, 77}));
+}
+
+TEST(IoRgbd, Errors) {
+  const std::string cpath = tmp_path("c4x3.png"), dpath = tmp_path("d5x3.png"),
+                    d8 = tmp_path("d8bit.png"), dzero = tmp_path("dzero.png");
+  ASSERT_TRUE(cv::imwrite(cpath, cv::Mat(3, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
+  ASSERT_TRUE(cv::imwrite(dpath, cv::Mat(3, 5, CV_16UC1, cv::Scalar(900))));
+  ASSERT_TRUE(cv::imwrite(d8, cv::Mat(3, 4, CV_8UC1, cv::Scalar(90))));
+  ASSERT_TRUE(cv::imwrite(dzero, cv::Mat(3, 4, CV_16UC1, cv::Scalar(0))));
+  expect_input_error([&] { proxseg::read_rgbd(cpath, dpath, small_k()); },
+                     {"c4x3.png", "d5x3.png", "4x3", "5x3"});
+  expect_input_error([&] { proxseg::read_rgbd(cpath, d8, small_k()); }, {"d8bit.png", "16-bit"});
+  expect_input_error([&] { proxseg::read_rgbd(cpath, dzero, small_k()); }, {"dzero.png"});
+  expect_input_error([&] { proxseg::read_rgbd(tmp_path("nope.png"), dpath, small_k()); },
+                     {"nope.png"});
+  const std::string notpng = write_bytes("not_an_image.png", "hello");
+  expect_input_error([&] { proxseg::read_rgbd(notpng, dpath, small_k()); }, {"not_an_image.png"});
+}
+
+TEST(IoIntrinsics, ReadsAndValidates) {
+  const std::string ok =
+      write_bytes("k.json", R"({"fx": 525, "fy": 526.5, "cx": 319.5, "cy": 239.5})");
+  const proxseg::Intrinsics k = proxseg::read_intrinsics(ok);
+  EXPECT_EQ(k.fx, 525);
+  EXPECT_EQ(k.fy, 526.5);
+  EXPECT_EQ(k.cx, 319.5);
+  EXPECT_EQ(k.cy, 239.5);
+  EXPECT_EQ(k.depth_scale, 1000);  // default
+  const std::string ds =
+      write_bytes("k5000.json", R"({"fx":1,"fy":2,"cx":3,"cy":4,"depth_scale":5000})");
+  EXPECT_EQ(proxseg::read_intrinsics(ds).depth_scale, 5000);
+
+  const std::string no_fy = write_bytes("k_no_fy.json", R"({"fx": 525, "cx": 1, "cy": 2})");
+  expect_input_error([&] { proxseg::read_intrinsics(no_fy); }, {"k_no_fy.json", "\"fy\""});
+  const std::string neg = write_bytes("k_neg.json", R"({"fx":-1,"fy":2,"cx":3,"cy":4})");
+  expect_input_error([&] { proxseg::read_intrinsics(neg); }, {"k_neg.json", "\"fx\""});
+  const std::string str = write_bytes("k_str.json", R"({"fx":"525","fy":2,"cx":3,"cy":4})");
+  expect_input_error([&] { proxseg::read_intrinsics(str); }, {"k_str.json", "\"fx\"", "number"});
+  const std::string zero_ds =
+      write_bytes("k_ds0.json", R"({"fx":1,"fy":2,"cx":3,"cy":4,"depth_scale":0})");
+  expect_input_error([&] { proxseg::read_intrinsics(zero_ds); }, {"k_ds0.json", "depth_scale"});
+  const std::string broken = write_bytes("k_broken.json", "{\"fx\": 1,\n");
+  expect_input_error([&] { proxseg::read_intrinsics(broken); }, {"k_broken.json", "JSON"});
+  expect_input_error([&] { proxseg::read_intrinsics(tmp_path("k_missing.json")); },
+                     {"k_missing.json"});
+
+  // YCB meta: factor_depth as a plain number, and a malformed matrix.
+  const std::string meta = write_bytes(
+      "meta.json",
+      R"({"intrinsic_matrix": [[500,0,320],[0,501,240],[0,0,1]], "factor_depth": 4000})");
+  const proxseg::Intrinsics m = proxseg::read_ycb_meta(meta);
+  EXPECT_EQ(m.fx, 500);
+  EXPECT_EQ(m.fy, 501);
+  EXPECT_EQ(m.cx, 320);
+  EXPECT_EQ(m.cy, 240);
+  EXPECT_EQ(m.depth_scale, 4000);
+  const std::string bad_meta = write_bytes(
+      "meta_bad.json", R"({"intrinsic_matrix": [[500,0,320],[0,501,240]], "factor_depth": [[1]]})");
+  expect_input_error([&] { proxseg::read_ycb_meta(bad_meta); },
+                     {"meta_bad.json", "intrinsic_matrix"});
+  const std::string no_factor =
+      write_bytes("meta_nofactor.json", R"({"intrinsic_matrix": [[1,0,2],[0,3,4],[0,0,1]]})");
+  expect_input_error([&] { proxseg::read_ycb_meta(no_factor); },
+                     {"meta_nofactor.json", "factor_depth"});
+}
+
+// ------------------------------------------------------------------------------------------------
+// Point-cloud errors
+
+TEST(IoErrors, MissingFileAndUnknownExtension) {
+  expect_input_error([] { proxseg::read_point_cloud(tmp_path("missing.pcd")); }, {"missing.pcd"});
+  expect_input_error([] { proxseg::read_point_cloud(tmp_path("missing.ply")); }, {"missing.ply"});
+  const std::string xyz = write_bytes("cloud.xyz", "1 2 3\n");
+  expect_input_error([&] { proxseg::read_point_cloud(xyz); }, {"cloud.xyz", ".xyz"});
+  // Extensions are case-insensitive.
+  const std::string upper = write_bytes("UPPER.PCD", binary_xyzrgb(2, 2));
+  EXPECT_EQ(proxseg::read_point_cloud(upper).size(), 2u);
+  expect_input_error([] { proxseg::read_pcd(tmp_dir()); }, {"directory"});
+}
+
+TEST(IoErrors, HeaderProblems) {
+  auto check = [](const std::string& name, const std::string& text,
+                  const std::vector<std::string>& parts) {
+    const std::string path = write_bytes(name, text);
+    std::vector<std::string> all = parts;
+    all.insert(all.begin(), name);
+    expect_input_error([&] { proxseg::read_pcd(path); }, all);
+  };
+  check("no_xyz.pcd", header("x y rgb", "4 4 4", "F F F", "1 1 1", 1, 1, 1, "ascii") + "1 2 3\n",
+        {"x/y/z"});
+  check("no_colour.pcd",
+        header("x y z intensity", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 4\n",
+        {"rgb"});
+  check("points_mismatch.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 4, 2, 7, "ascii"), {"POINTS", "8"});
+  check("bad_line.pcd", "VERSION 0.7\nFIELDS x y z rgb\nHELLO world\n", {"line 3", "HELLO"});
+  check("no_data.pcd", "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\n", {"DATA"});
+  check("no_width.pcd", "FIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nHEIGHT 1\nDATA ascii\n",
+        {"WIDTH"});
+  check("size_count.pcd",
+        header("x y z rgb", "4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 4\n",
+        {"SIZE"});
+  check("bad_type.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F Q", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 4\n",
+        {"TYPE"});
+  check("bad_data.pcd", header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "zip"),
+        {"DATA", "zip"});
+  check("empty.pcd", "", {"empty"});
+  check("png_as.pcd", std::string("\x89PNG\r\n\x1a\n\0\0\0", 11), {"line 1"});
+}
+
+TEST(IoErrors, DataProblems) {
+  auto check = [](const std::string& name, const std::string& text,
+                  const std::vector<std::string>& parts) {
+    const std::string path = write_bytes(name, text);
+    std::vector<std::string> all = parts;
+    all.insert(all.begin(), name);
+    expect_input_error([&] { proxseg::read_pcd(path); }, all);
+  };
+  // Binary shorter than POINTS * point size.
+  std::string trunc = binary_xyzrgb(5, 5);
+  trunc.resize(trunc.size() - 3);
+  check("truncated.pcd", trunc, {"truncated"});
+  // A huge header on a tiny file: no allocation, just an error.
+  check("huge.pcd", binary_xyzrgb(1, 2000000000), {"truncated"});
+  // Compressed: sizes larger than the file, inconsistent sizes, corrupt LZF.
+  const std::string raw = compressed_raw_3pts();
+  const std::string ch =
+      header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 3, 1, 3, "binary_compressed");
+  const std::string lzf = lzf_literals(raw);
+  check("ctrunc.pcd", ch + compressed_block(lzf, 48).substr(0, 30), {"truncated"});
+  check("csize.pcd", ch + compressed_block(lzf, 47), {"47", "48"});
+  std::string corrupt = ch + compressed_block(std::string("\x00\x01\x40\x05", 4) + lzf, 48);
+  check("ccorrupt.pcd", corrupt, {"corrupt"});
+  std::string short_lzf = ch + compressed_block(lzf.substr(0, lzf.size() - 10), 48);
+  check("cshort.pcd", short_lzf, {"corrupt"});
+  check("chuge.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 200000000, 1, 200000000,
+               "binary_compressed") +
+            compressed_block(std::string("\x00\x01", 2), 3200000000u),
+        {"chuge.pcd"});
+  // Ascii line with the wrong number of values names the line (header is 11 lines).
+  check("ascii_count.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 2, 1, 2, "ascii") + "1 2 3 0\n1 2 3\n",
+        {"line 13", "3 values", "expected 4"});
+  check("ascii_nan_text.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 two 3 0\n",
+        {"line 12", "two"});
+  check("ascii_short.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 3, 1, 3, "ascii") + "1 2 3 0\n",
+        {"1 data line", "POINTS 3"});
+  check(
+      "ascii_long.pcd",
+      header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 0\n4 5 6 0\n",
+      {"line 13", "beyond POINTS"});
+  // All-NaN cloud: zero valid points.
+  check("all_nan.pcd",
+        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 2, 1, 2, "ascii") +
+            "nan nan nan 0\nnan 1 2 0\n",
+        {"no valid points"});
+  check("neg_label.pcd",
+        header("x y z rgb label", "4 4 4 4 4", "F F F F I", "1 1 1 1 1", 1, 1, 1, "ascii") +
+            "1 2 3 0 -5\n",
+        {"label"});
+}
+
+TEST(IoErrors, PlyWithoutColours) {
+  const std::string path =
+      write_bytes("nocolour.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                  "property float z\nend_header\n0 0 0\n1 1 1\n");
+  expect_input_error([&] { proxseg::read_ply(path); }, {"nocolour.ply", "colour"});
+  const std::string garbage = write_bytes("garbage.ply", "not a ply file at all\n");
+  expect_input_error([&] { proxseg::read_ply(garbage); }, {"garbage.ply"});
+  // A vertex count the file cannot hold is rejected before anything is allocated.
+  const std::string huge = write_bytes(
+      "huge.ply",
+      "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "end_header\n0 0 0 1 2 3\n");
+  expect_input_error([&] { proxseg::read_ply(huge); }, {"huge.ply", "2000000000"});
+  const std::string coloured = write_bytes(
+      "coloured.ply",
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "end_header\n0 0 0 255 128 0\n1 1 1 1 2 3\n");
+  const Frame f = proxseg::read_ply(coloured);
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_EQ(f.rgb[0], (proxseg::Rgb{255, 128, 0}));
+  EXPECT_EQ(f.rgb[1], (proxseg::Rgb{1, 2, 3}));
+  EXPECT_EQ(f.xyz[1], Eigen::Vector3f(1, 1, 1));
+}
