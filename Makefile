@@ -23,8 +23,8 @@ build: configure
 
 demo: build
 	@mkdir -p $(DEMO_OUT)
-	@$(BUILD)/proxseg synth -o $(DEMO_OUT)/synth.pcd
-	@$(BUILD)/proxseg segment $(DEMO_OUT)/synth.pcd -o $(DEMO_OUT)/synth
+	@$(BUILD)/proxseg synth -o $(DEMO_OUT)/synth-scene.pcd
+	@$(BUILD)/proxseg segment $(DEMO_OUT)/synth-scene.pcd -o $(DEMO_OUT)/synth
 	@if [ -f $(DATA)/mosd/learn/learn0.pcd ]; then \
 	  $(BUILD)/proxseg segment $(DATA)/mosd/learn/learn0.pcd -o $(DEMO_OUT)/learn0; fi
 	@echo "demo outputs (labelled PCD, picture, JSON report) are in $(DEMO_OUT)/:"

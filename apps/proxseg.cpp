@@ -97,6 +97,11 @@ int run_segment(const SegmentOptions& o) {
   if (rgbd && (o.color.empty() || o.depth.empty())) throw CLI::ValidationError("--color and --depth go together");
   if (rgbd && o.intrinsics.empty() == o.meta.empty())
     throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
+  for (const std::string& in : {o.input, o.color, o.depth})
+    for (const char* ext : {".pcd", ".png", ".json"})
+      if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(o.output + ext) &&
+          std::filesystem::equivalent(in, o.output + ext))
+        throw CLI::ValidationError("--output " + o.output + " would overwrite the input " + in);
   const proxseg::SegmentParams params = segment_params(o);
   const proxseg::Frame frame = read_input(o);
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x" << frame.height

@@ -44,6 +44,16 @@ FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims) {
   return space;
 }
 
+void balance_blocks(Eigen::MatrixXf& features, const std::vector<std::pair<int, int>>& blocks) {
+  if (features.rows() < 2) return;
+  for (const auto& [start, size] : blocks) {
+    auto block = features.middleCols(start, size);
+    const Eigen::RowVectorXf mean = block.colwise().mean();
+    const double variance = (block.rowwise() - mean).squaredNorm() / (features.rows() - 1.0);
+    if (variance > 0) block /= static_cast<float>(std::sqrt(variance));
+  }
+}
+
 Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& features) {
   return (features.cast<double>().rowwise() - space.mean.transpose()) * space.axes;
 }

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace proxseg {
 namespace {
@@ -71,11 +73,12 @@ class BinaryCut {
 
     // Integer capacities: with doubles, rounding leaves tiny positive residuals on arcs that should
     // be saturated and BK then spends most of its time pushing ~1e-16 of flow around. Every flow
-    // and residual value is bounded by the sum of all capacities, which is mapped to 2^52.
+    // and residual value is bounded by the sum of all capacities, which is mapped to 2^52 (so the
+    // cut is exact up to ~1e-16 of the total; moves are accepted on the exact energy anyway).
     double total = 0;
     for (std::size_t i = 0; i < m; ++i) total += cap_source_[i] + cap_sink_[i];
     for (const auto& e : edges_) total += e.cap_ij + e.cap_ji;
-    const double scale = total > 0 ? 4503599627370496.0 / total : 1.0;
+    const double scale = total > 0 ? std::min(4503599627370496.0 / total, 1e300) : 1.0;
     auto quantize = [scale](double c) { return static_cast<Cap>(std::llround(c * scale)); };
 
     arcs_.resize(na);

@@ -34,6 +34,7 @@ void fields(P& p, F&& f) {
   f("clustering", "alpha", p.clustering.alpha);
   f("clustering", "pca_dims", p.clustering.pca_dims);
   f("clustering", "prior_weight", p.clustering.prior_weight);
+  f("clustering", "balance_blocks", p.clustering.balance_blocks);
   f("kmeans", "max_iterations", p.kmeans.max_iterations);
   f("kmeans", "tolerance", p.kmeans.tolerance);
   f("mrf", "enabled", p.mrf.enabled);

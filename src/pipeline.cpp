@@ -71,6 +71,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.times_ms.emplace_back("features", watch.lap());
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
+  if (params.clustering.balance_blocks)
+    balance_blocks(r.features, {{0, kColourDims}, {kColourDims, kTextureDims}, {kColourDims + kTextureDims, kShapeDims}});
   r.space = principal_axes(r.features, params.clustering.pca_dims);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);

@@ -1,1 +1,174 @@
+// End-to-end runs of segment() on real data (mOSD, YCB-Video, PCL) and on the synthetic scene.
+#include <proxseg/io.hpp>
+#include <proxseg/metrics.hpp>
+#include <proxseg/pipeline.hpp>
+#include <proxseg/render.hpp>
+
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+
+using namespace proxseg;
+
+namespace {
+const std::string kData = PROXSEG_DATA_DIR;
+
+std::string data(const std::string& rel) {
+  const std::string path = kData + "/" + rel;
+  // The real data must be there (CI has it): fail loudly rather than skip.
+  if (!std::filesystem::exists(path)) ADD_FAILURE() << "missing real data: " << path;
+  return path;
+}
+
+// Majority predicted label of the points of each ground-truth region.
+std::map<std::uint32_t, std::uint32_t> majority(const std::vector<std::uint32_t>& truth,
+                                                const std::vector<std::uint32_t>& pred) {
+  std::map<std::uint32_t, std::map<std::uint32_t, int>> counts;
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    if (truth[i]) ++counts[truth[i]][pred[i]];
+  std::map<std::uint32_t, std::uint32_t> out;
+  for (const auto& [t, c] : counts)
+    out[t] = std::max_element(c.begin(), c.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+  return out;
+}
+
+// Number of objects (truth != background) whose majority label differs from the background's.
+int objects_apart(const std::vector<std::uint32_t>& truth, const std::vector<std::uint32_t>& pred,
+                  std::uint32_t background) {
+  const auto m = majority(truth, pred);
+  int apart = 0;
+  for (const auto& [t, l] : m) {
+    std::cout << "  truth " << t << " -> label " << l << "\n";
+    if (t != background && l != m.at(background)) ++apart;
+  }
+  return apart;
+}
+
+void expect_every_valid_point_labelled(const Frame& f, const SegmentResult& r) {
+  ASSERT_EQ(r.point_labels.size(), f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.valid(i))
+      ASSERT_GE(r.point_labels[i], 1u) << "point " << i;
+    else
+      ASSERT_EQ(r.point_labels[i], 0u) << "point " << i;
+    ASSERT_LE(r.point_labels[i], static_cast<std::uint32_t>(r.k()));
+  }
+}
+}  // namespace
+
+TEST(Pipeline, RealMosdSceneSeparatesObjectsFromTable) {
+  const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
+  const SegmentResult r = segment(f, SegmentParams{});
+  expect_every_valid_point_labelled(f, r);
+  // Intermediate stages are exposed and consistent.
+  EXPECT_EQ(r.features.rows(), static_cast<Eigen::Index>(r.clustered.size()));
+  EXPECT_EQ(r.features.cols(), kFeatureDims);
+  EXPECT_EQ(r.labels_kmeans.size(), r.clustered.size());
+  EXPECT_EQ(r.labels.size(), r.clustered.size());
+  EXPECT_GE(static_cast<int>(r.initial_centroids.size()), r.k());
+  EXPECT_GE(r.k(), 2);
+  EXPECT_LE(r.k(), 30);
+  EXPECT_LE(r.energy_after, r.energy_before);
+  EXPECT_GT(r.voxels.size(), 2000u);  // a 640x480 Kinect tabletop at 2 cm
+  const auto truth = mosd_objects(f.label);
+  const double v = v_measure(truth, r.point_labels).v;
+  std::cout << "learn0: k = " << r.k() << ", V = " << v << "\n";
+  EXPECT_GE(v, 0.40);
+  EXPECT_EQ(objects_apart(truth, r.point_labels, 1), static_cast<int>(majority(truth, truth).size()) - 1);
+}
+
+TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
+  // Table 1 of the paper: V-measure of k-means+MRF above k-means alone.
+  double v_kmeans = 0, v_mrf = 0;
+  for (const char* scene : {"mosd/learn/learn0.pcd", "mosd/learn/learn20.pcd", "mosd/learn/learn30.pcd"}) {
+    const Frame f = read_pcd(data(scene));
+    SegmentParams p;
+    const auto truth = mosd_objects(f.label);
+    v_mrf += v_measure(truth, segment(f, p).point_labels).v;
+    p.mrf.enabled = false;
+    v_kmeans += v_measure(truth, segment(f, p).point_labels).v;
+  }
+  std::cout << "mean V k-means " << v_kmeans / 3 << ", k-means+MRF " << v_mrf / 3 << "\n";
+  EXPECT_GT(v_mrf, v_kmeans);
+  EXPECT_GE(v_mrf / 3, 0.32);
+}
+
+TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {
+  const std::string base = kData + "/ycbv/frames/000001";
+  data("ycbv/frames/000001-color.png");
+  const Frame f = read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(base + "-meta.json"));
+  const SegmentResult r = segment(f, SegmentParams{});
+  expect_every_valid_point_labelled(f, r);
+  const cv::Mat mask = cv::imread(base + "-label.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(mask.total(), f.size());
+  std::vector<std::uint32_t> truth(f.size(), 0);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.valid(i)) truth[i] = 1 + mask.data[i];  // 1 = background, 1 + class index = object
+  std::cout << "ycbv 000001: k = " << r.k() << "\n";
+  EXPECT_EQ(objects_apart(truth, r.point_labels, 1), 3);
+}
+
+TEST(Pipeline, SyntheticSceneObjectsApartFromTable) {
+  const Frame f = synth_scene(SynthParams{});
+  const SegmentResult r = segment(f, SegmentParams{});
+  expect_every_valid_point_labelled(f, r);
+  const double v = v_measure(f.label, r.point_labels).v;
+  std::cout << "synthetic: k = " << r.k() << ", V = " << v << "\n";
+  EXPECT_EQ(objects_apart(f.label, r.point_labels, 1), 5);
+  EXPECT_GE(v, 0.55);
+}
+
+TEST(Pipeline, SameLabelsWhateverTheThreadCount) {
+  const Frame f = read_pcd(data("mosd/learn/learn25.pcd"));
+  SegmentParams p;
+  p.threads = 1;
+  const SegmentResult one = segment(f, p);
+  p.threads = 2;
+  const SegmentResult two = segment(f, p);
+  EXPECT_EQ(one.point_labels, two.point_labels);
+  EXPECT_EQ((one.features - two.features).cwiseAbs().maxCoeff(), 0.f);
+  EXPECT_EQ(segment(f, p).point_labels, two.point_labels);  // and across runs
+}
+
+TEST(Pipeline, NoMrfAndExpansion) {
+  const Frame f = read_pcd(data("mosd/learn/learn33.pcd"));
+  SegmentParams p;
+  p.mrf.enabled = false;
+  const SegmentResult km = segment(f, p);
+  EXPECT_EQ(km.labels, km.labels_kmeans);
+  EXPECT_EQ(km.energy_after, km.energy_before);
+  p.mrf.enabled = true;
+  p.mrf.method = MrfMethod::kExpansion;
+  const SegmentResult ex = segment(f, p);
+  EXPECT_LT(ex.energy_after, ex.energy_before);
+  EXPECT_EQ(ex.labels_kmeans, km.labels_kmeans);
+}
+
+TEST(Pipeline, UnorganizedCloudHasNoTextureButIsLabelled) {
+  const Frame f = read_pcd(data("pcl/milk.pcd"));
+  ASSERT_FALSE(f.organized());
+  const SegmentResult r = segment(f, SegmentParams{});
+  expect_every_valid_point_labelled(f, r);
+  EXPECT_EQ(r.features.middleCols(kColourDims, kTextureDims).cwiseAbs().maxCoeff(), 0.f);
+  EXPECT_GT(r.features.leftCols(kColourDims).cwiseAbs().maxCoeff(), 0.f);
+}
+
+TEST(Pipeline, SparseVoxelsInheritTheNearestLabel) {
+  const Frame f = read_pcd(data("mosd/learn/learn10.pcd"));
+  SegmentParams p;
+  p.voxels.min_points_per_voxel = 60;  // many cells too sparse to cluster
+  const SegmentResult r = segment(f, p);
+  EXPECT_LT(r.clustered.size(), r.voxels.size());
+  expect_every_valid_point_labelled(f, r);
+}
+
+TEST(Pipeline, NoValidPointIsAnInputError) {
+  Frame f;
+  f.width = 4;
+  f.height = 1;
+  f.xyz.assign(4, Eigen::Vector3f::Constant(std::nanf("")));
+  f.rgb.assign(4, Rgb{0, 0, 0});
+  EXPECT_THROW(segment(f, SegmentParams{}), InputError);
+}

@@ -12,6 +12,9 @@ struct ClusteringParams {
   // towards the global feature covariance, so a one-voxel centroid has a usable metric. The
   // default (1e6) in effect uses the global covariance for every centroid: best on mOSD learn.
   double prior_weight = 1e6;
+  // Scale the colour, texture and shape blocks to equal total variance over the frame before
+  // the principal axes are taken, so that no block dominates by its size alone (docs/method.md).
+  bool balance_blocks = true;
 };
 
 struct Centroid {
@@ -27,6 +30,8 @@ struct FeatureSpace {
   Eigen::VectorXd variances;   // along each axis (the global covariance there is diagonal)
 };
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
+// Multiplies each block of columns [start, start + size) by 1 / sqrt(its total variance).
+void balance_blocks(Eigen::MatrixXf& features, const std::vector<std::pair<int, int>>& blocks);
 Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& features);
 
 // Algorithm 1: breadth-first walk over the voxel graph growing centroids in feature space.
