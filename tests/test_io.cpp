@@ -447,7 +447,7 @@ TEST(IoWrite, AtomicWriteReplacesAndFailsCleanly) {
   fs::create_directories(as_dir / "child");
   expect_input_error([&] { proxseg::write_file_atomic(as_dir.string(), "x"); }, {"a_directory"});
   for (const auto& e : fs::directory_iterator(tmp_dir()))
-    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+    EXPECT_EQ(e.path().filename().string().find(".a_directory.tmp"), std::string::npos) << e.path();
 }
 
 // ------------------------------------------------------------------------------------------------
