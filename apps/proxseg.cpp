@@ -19,20 +19,27 @@ struct SegmentOptions {
   std::string input, output, color, depth, intrinsics, meta, config;
   bool no_mrf = false, json = false;
   std::optional<std::string> mrf_method;
-  std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight, shape_weight;
+  std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
+      shape_weight;
   std::optional<int> min_points, pca_dims, threads;
   bool no_colour = false, no_texture = false, no_shape = false;
 };
 
 void add_segment(CLI::App& app, SegmentOptions& o) {
-  auto* cmd = app.add_subcommand("segment", "Segment an RGB-D scene into labelled regions (paper 3.1-3.2)");
-  cmd->add_option("input", o.input, "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
-  cmd->add_option("-o,--output", o.output, "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json")->required();
+  auto* cmd =
+      app.add_subcommand("segment", "Segment an RGB-D scene into labelled regions (paper 3.1-3.2)");
+  cmd->add_option("input", o.input,
+                  "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
+  cmd->add_option("-o,--output", o.output,
+                  "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json")
+      ->required();
   cmd->add_option("--color", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
   cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
-  cmd->add_option("--intrinsics", o.intrinsics, "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
+  cmd->add_option("--intrinsics", o.intrinsics,
+                  "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
   cmd->add_option("--meta", o.meta, "YCB-Video meta JSON (intrinsic_matrix, factor_depth)");
-  cmd->add_option("--config", o.config, "JSON parameters (same layout as the report's \"parameters\")");
+  cmd->add_option("--config", o.config,
+                  "JSON parameters (same layout as the report's \"parameters\")");
   cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
   cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
       ->check(CLI::IsMember({"swap", "expansion"}));
@@ -49,7 +56,8 @@ void add_segment(CLI::App& app, SegmentOptions& o) {
   cmd->add_flag("--no-colour", o.no_colour, "Switch the colour block off");
   cmd->add_flag("--no-texture", o.no_texture, "Switch the texture block off");
   cmd->add_flag("--no-shape", o.no_shape, "Switch the shape block off");
-  cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores); results do not depend on it");
+  cmd->add_option("--threads", o.threads,
+                  "Worker threads (0 = all cores); results do not depend on it");
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
 }
 
@@ -71,7 +79,9 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o) {
   if (o.no_texture) p.features.use_texture = false;
   if (o.no_shape) p.features.use_shape = false;
   if (o.no_mrf) p.mrf.enabled = false;
-  if (o.mrf_method) p.mrf.method = *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
+  if (o.mrf_method)
+    p.mrf.method =
+        *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
   if (o.threads) p.threads = *o.threads;
   proxseg::validate(p);
   return p;
@@ -88,13 +98,16 @@ void make_parent(const std::string& path) {
   const auto parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (ec) throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
+  if (ec)
+    throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
 }
 
 int run_segment(const SegmentOptions& o) {
   const bool rgbd = !o.color.empty() || !o.depth.empty();
-  if (o.input.empty() == !rgbd) throw CLI::ValidationError("give either INPUT or --color and --depth");
-  if (rgbd && (o.color.empty() || o.depth.empty())) throw CLI::ValidationError("--color and --depth go together");
+  if (o.input.empty() == !rgbd)
+    throw CLI::ValidationError("give either INPUT or --color and --depth");
+  if (rgbd && (o.color.empty() || o.depth.empty()))
+    throw CLI::ValidationError("--color and --depth go together");
   if (rgbd && o.intrinsics.empty() == o.meta.empty())
     throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
   for (const std::string& in : {o.input, o.color, o.depth})
@@ -104,8 +117,8 @@ int run_segment(const SegmentOptions& o) {
         throw CLI::ValidationError("--output " + o.output + " would overwrite the input " + in);
   const proxseg::SegmentParams params = segment_params(o);
   const proxseg::Frame frame = read_input(o);
-  std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x" << frame.height
-            << ")\n";
+  std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
+            << frame.height << ")\n";
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
   make_parent(o.output);
   proxseg::write_segmentation(o.output, frame, params, result);
@@ -113,9 +126,10 @@ int run_segment(const SegmentOptions& o) {
   if (o.json) {
     std::cout << report.dump(2) << "\n";
   } else {
-    std::cout << o.output << ".pcd " << o.output << ".png " << o.output << ".json: " << result.voxels.size()
-              << " voxels, " << result.initial_centroids.size() << " initial centroids, k = " << result.k()
-              << ", " << report["times_ms"]["total"].get<double>() << " ms\n";
+    std::cout << o.output << ".pcd " << o.output << ".png " << o.output
+              << ".json: " << result.voxels.size() << " voxels, " << result.initial_centroids.size()
+              << " initial centroids, k = " << result.k() << ", "
+              << report["times_ms"]["total"].get<double>() << " ms\n";
   }
   return 0;
 }
@@ -144,7 +158,8 @@ int main(int argc, char** argv) {
   SegmentOptions segment;
   add_segment(app, segment);
   SynthOptions synth;
-  auto* synth_cmd = app.add_subcommand("synth", "Write the built-in synthetic tabletop scene (with ground truth)");
+  auto* synth_cmd = app.add_subcommand(
+      "synth", "Write the built-in synthetic tabletop scene (with ground truth)");
   synth_cmd->add_option("-o,--output", synth.output, "Output PCD path")->required();
   synth_cmd->add_option("--seed", synth.seed, "Seed of the depth noise");
   synth_cmd->add_option("--noise", synth.noise, "Depth noise std at 1 m, metres");

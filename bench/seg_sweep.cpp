@@ -7,8 +7,8 @@
 
 #include <cstdio>
 #include <map>
-#include <set>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 #include <string>
 
 namespace {
@@ -35,7 +35,9 @@ int apart(const std::vector<std::uint32_t>& truth, const std::vector<std::uint32
     if (truth[i]) ++c[truth[i]][pred[i]];
   std::map<std::uint32_t, std::uint32_t> m;
   for (auto& [t, h] : c)
-    m[t] = std::max_element(h.begin(), h.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    m[t] = std::max_element(h.begin(), h.end(), [](auto& a, auto& b) {
+             return a.second < b.second;
+           })->first;
   int n = 0;
   for (auto& [t, l] : m) n += t != 1 && l != m[1];
   return n;
@@ -59,18 +61,21 @@ int main(int argc, char** argv) {
       if (v < 0) continue;
       // k-means labels per point (sparse voxels left out of this comparison: label 0)
       auto it = std::lower_bound(r.clustered.begin(), r.clustered.end(), v);
-      if (it != r.clustered.end() && *it == v) km[p] = r.labels_kmeans[it - r.clustered.begin()] + 1;
+      if (it != r.clustered.end() && *it == v)
+        km[p] = r.labels_kmeans[it - r.clustered.begin()] + 1;
     }
-    const double vk = proxseg::v_measure(truth, km).v, vm = proxseg::v_measure(truth, r.point_labels).v;
+    const double vk = proxseg::v_measure(truth, km).v,
+                 vm = proxseg::v_measure(truth, r.point_labels).v;
     double ms = 0;
     for (const auto& t : r.times_ms) ms += t.second;
     std::printf("%-40s C=%3zu k=%3d V_kmeans=%.3f V_mrf=%.3f apart=%d/%d %.0f ms\n", argv[a],
                 r.initial_centroids.size(), r.k(), vk, vm, apart(truth, r.point_labels),
-                static_cast<int>(std::set<std::uint32_t>(truth.begin(), truth.end()).size()) - 2, ms);
+                static_cast<int>(std::set<std::uint32_t>(truth.begin(), truth.end()).size()) - 2,
+                ms);
     sum_km += vk, sum_mrf += vm, sum_k += r.k(), sum_c += r.initial_centroids.size(), sum_ms += ms;
   }
   const int n = argc - 2;
-  std::printf("MEAN C=%.1f k=%.1f V_kmeans=%.3f V_mrf=%.3f %.0f ms\n", sum_c / n, sum_k / n, sum_km / n,
-              sum_mrf / n, sum_ms / n);
+  std::printf("MEAN C=%.1f k=%.1f V_kmeans=%.3f V_mrf=%.3f %.0f ms\n", sum_c / n, sum_k / n,
+              sum_km / n, sum_mrf / n, sum_ms / n);
   return 0;
 }

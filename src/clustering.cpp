@@ -59,7 +59,8 @@ Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& featur
 }
 
 double chi_square_quantile(double alpha, int dof) {
-  if (dof < 1 || !(alpha > 0 && alpha < 1)) throw std::invalid_argument("chi-square: need dof >= 1, 0 < alpha < 1");
+  if (dof < 1 || !(alpha > 0 && alpha < 1))
+    throw std::invalid_argument("chi-square: need dof >= 1, 0 < alpha < 1");
   return boost::math::quantile(boost::math::chi_squared(dof), alpha);
 }
 
@@ -89,7 +90,8 @@ std::vector<Centroid> initial_centroids(const Eigen::MatrixXd& x,
                                         const Eigen::VectorXd& global_variances,
                                         const ClusteringParams& params) {
   const int n = static_cast<int>(x.rows()), d = static_cast<int>(x.cols());
-  if (static_cast<int>(neighbours.size()) != n) throw std::invalid_argument("initial_centroids: graph size");
+  if (static_cast<int>(neighbours.size()) != n)
+    throw std::invalid_argument("initial_centroids: graph size");
   std::vector<Centroid> out;
   if (n == 0) return out;
   if (d == 0) {  // every feature identical: one centroid
@@ -98,7 +100,8 @@ std::vector<Centroid> initial_centroids(const Eigen::MatrixXd& x,
   }
   // Shrinkage target: the global covariance (diagonal on the principal axes), floored so that a
   // nearly constant axis cannot make the metric singular.
-  const Eigen::VectorXd prior = global_variances.cwiseMax(global_variances.maxCoeff() * 1e-6 + 1e-12);
+  const Eigen::VectorXd prior =
+      global_variances.cwiseMax(global_variances.maxCoeff() * 1e-6 + 1e-12);
   const double threshold = chi_square_quantile(params.alpha, d);
 
   std::vector<Growing> centroids;
@@ -151,7 +154,8 @@ std::vector<Centroid> initial_centroids(const Eigen::MatrixXd& x,
     // of line 22), nearest to the current centroid first.
     order.clear();
     for (int k : neighbours[j])
-      if (!visited[k] && !queued[k]) order.emplace_back(mahalanobis(centroids[current], x.row(k).transpose()), k);
+      if (!visited[k] && !queued[k])
+        order.emplace_back(mahalanobis(centroids[current], x.row(k).transpose()), k);
     std::sort(order.begin(), order.end());
     for (const auto& [dist, k] : order) {
       queue.push_back(k);
@@ -162,7 +166,8 @@ std::vector<Centroid> initial_centroids(const Eigen::MatrixXd& x,
   return out;
 }
 
-KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial, const KMeansParams& params) {
+KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial,
+                    const KMeansParams& params) {
   KMeansResult r;
   r.centroids = initial;
   const Eigen::Index n = x.rows();
@@ -192,7 +197,8 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial, co
     for (int& l : r.labels) l = renumber[l];
   };
   // Movement is judged relative to the spread of the data.
-  const double scale = std::sqrt(std::max((x.rowwise() - x.colwise().mean()).squaredNorm() / n, 1e-300));
+  const double scale =
+      std::sqrt(std::max((x.rowwise() - x.colwise().mean()).squaredNorm() / n, 1e-300));
   for (int it = 0; it < params.max_iterations; ++it) {
     r.iterations = it + 1;
     assign();

@@ -2,9 +2,9 @@
 // (normalised eigenvalues, curvature, normal-angle histogram).
 #include <proxseg/features.hpp>
 
+#include <omp.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
-#include <omp.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -53,8 +53,8 @@ std::vector<cv::Mat> gabor_level(const cv::Mat& grey, const FeatureParams& param
   cv::copyMakeBorder(grey, padded, 0, rows - grey.rows, 0, cols - grey.cols, cv::BORDER_REFLECT);
   cv::Mat spectrum;
   cv::dft(padded, spectrum, cv::DFT_COMPLEX_OUTPUT);
-  const double f0 = 1.0 / params.gabor_wavelength;             // cycles per pixel
-  const double sf = 1.0 / (2.0 * kPi * params.gabor_sigma);    // frequency-domain std
+  const double f0 = 1.0 / params.gabor_wavelength;           // cycles per pixel
+  const double sf = 1.0 / (2.0 * kPi * params.gabor_sigma);  // frequency-domain std
   std::vector<cv::Mat> out(kGaborOrientations);
   for (int o = 0; o < kGaborOrientations; ++o) {
     const double theta = o * kPi / kGaborOrientations;
@@ -164,8 +164,9 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params) {
       for (std::size_t i = 0; i < n; i += 4)
         if (frame.valid(i)) sample.push_back(m[i]);
       if (!sample.empty()) {
-        const std::size_t q = std::min(sample.size() - 1,
-                                       static_cast<std::size_t>(params.texture_clip_quantile * sample.size()));
+        const std::size_t q =
+            std::min(sample.size() - 1,
+                     static_cast<std::size_t>(params.texture_clip_quantile * sample.size()));
         std::nth_element(sample.begin(), sample.begin() + q, sample.end());
         bank.upper_edge[filter] = sample[q];
       }
@@ -235,7 +236,9 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
       Eigen::Vector3f c, l, r, t, b;
       if (!at(u, v, c)) continue;
       const float jump = 0.05f * c.z();  // beyond this depth step a neighbour is another surface
-      auto usable = [&](bool ok, const Eigen::Vector3f& p) { return ok && std::abs(p.z() - c.z()) < jump; };
+      auto usable = [&](bool ok, const Eigen::Vector3f& p) {
+        return ok && std::abs(p.z() - c.z()) < jump;
+      };
       const bool hl = usable(at(u - s, v, l), l), hr = usable(at(u + s, v, r), r);
       const bool ht = usable(at(u, v - s, t), t), hb = usable(at(u, v + s, b), b);
       if (!(hl || hr) || !(ht || hb)) continue;
@@ -252,24 +255,27 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   return normals;
 }
 
-Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid, const std::vector<int>& voxels,
-                               const FeatureParams& params, int threads) {
+Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
+                               const std::vector<int>& voxels, const FeatureParams& params,
+                               int threads) {
   Eigen::MatrixXf f = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(voxels.size()), kFeatureDims);
   const bool shape = params.use_shape && params.shape_weight > 0;
   const bool texture = params.use_texture && params.texture_weight > 0 && frame.organized();
   const bool colour = params.use_colour && params.colour_weight > 0;
-  const std::vector<Eigen::Vector3f> normals = shape ? point_normals(frame, params)
-                                                     : std::vector<Eigen::Vector3f>{};
+  const std::vector<Eigen::Vector3f> normals =
+      shape ? point_normals(frame, params) : std::vector<Eigen::Vector3f>{};
   const GaborBank bank = texture ? gabor_bank(frame, params) : GaborBank{};
   // Each row is written by one iteration only: the result does not depend on the thread count.
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads > 0 ? threads : omp_get_max_threads())
+#pragma omp parallel for schedule(dynamic, 64) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (std::size_t row = 0; row < voxels.size(); ++row) {
     const std::vector<int>& pts = grid.points[voxels[row]];
     if (colour) {
       std::vector<Rgb> colours;
       colours.reserve(pts.size());
       for (int i : pts) colours.push_back(frame.rgb[i]);
-      f.row(row).segment(0, kColourDims) = colour_feature(colours) * static_cast<float>(params.colour_weight);
+      f.row(row).segment(0, kColourDims) =
+          colour_feature(colours) * static_cast<float>(params.colour_weight);
     }
     if (texture)
       f.row(row).segment(kColourDims, kTextureDims) =

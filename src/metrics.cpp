@@ -7,7 +7,8 @@
 
 namespace proxseg {
 
-VMeasure v_measure(const std::vector<std::uint32_t>& truth, const std::vector<std::uint32_t>& predicted) {
+VMeasure v_measure(const std::vector<std::uint32_t>& truth,
+                   const std::vector<std::uint32_t>& predicted) {
   if (truth.size() != predicted.size()) throw std::invalid_argument("v_measure: sizes differ");
   std::map<std::pair<std::uint32_t, std::uint32_t>, double> joint;
   std::map<std::uint32_t, double> classes, clusters;

@@ -40,7 +40,8 @@ cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labe
     if (frame.valid(i)) ++valid, in_front += frame.xyz[i].z() > 0;
   const bool perspective = in_front >= valid * 9 / 10;
   auto plane = [&](const Eigen::Vector3f& p) {
-    return perspective ? Eigen::Vector2f(p.x() / p.z(), p.y() / p.z()) : Eigen::Vector2f(p.x(), p.y());
+    return perspective ? Eigen::Vector2f(p.x() / p.z(), p.y() / p.z())
+                       : Eigen::Vector2f(p.x(), p.y());
   };
   Eigen::Vector2f lo = Eigen::Vector2f::Constant(INFINITY), hi = -lo;
   for (std::size_t i = 0; i < frame.size(); ++i)
@@ -51,7 +52,8 @@ cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labe
   const Eigen::Vector2f span = (hi - lo).cwiseMax(1e-9f);
   const float scale = 0.9f * std::min(w / span.x(), h / span.y());
   const Eigen::Vector2f offset = Eigen::Vector2f(w, h) / 2 - scale * (lo + hi) / 2;
-  const int r = std::clamp(static_cast<int>(std::sqrt(w * h / std::max<double>(valid, 1.0)) / 2), 1, 4);
+  const int r =
+      std::clamp(static_cast<int>(std::sqrt(w * h / std::max<double>(valid, 1.0)) / 2), 1, 4);
   for (std::size_t i = 0; i < frame.size(); ++i) {
     if (!frame.valid(i) || (perspective && frame.xyz[i].z() <= 0)) continue;
     const Eigen::Vector2f q = scale * plane(frame.xyz[i]) + offset;
@@ -79,8 +81,8 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
         const int i = v * w + u;
         const Rgb& c = frame.rgb[i];
         // Invalid or unlabelled pixels are shown dimmed, labelled ones blended with their label.
-        image.at<cv::Vec3b>(v, u) = labels[i] ? blend(c, labels[i])
-                                              : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
+        image.at<cv::Vec3b>(v, u) =
+            labels[i] ? blend(c, labels[i]) : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
       }
     // Label boundaries in white.
     for (int v = 0; v < h; ++v)
@@ -99,7 +101,8 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
   return std::string(png.begin(), png.end());
 }
 
-nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params, const SegmentResult& r) {
+nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
+                                   const SegmentResult& r) {
   nlohmann::json j;
   j["parameters"] = to_json(params);
   j["input"] = {{"width", frame.width},
@@ -127,7 +130,8 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   for (std::uint32_t l : r.point_labels)
     if (l) ++sizes[l];
   nlohmann::json labels = nlohmann::json::array();
-  for (const auto& [label, points] : sizes) labels.push_back({{"label", label}, {"points", points}});
+  for (const auto& [label, points] : sizes)
+    labels.push_back({{"label", label}, {"points", points}});
   j["labels"] = labels;
   return j;
 }

@@ -9,7 +9,9 @@
 
 namespace proxseg {
 
-void to_json(nlohmann::json& j, MrfMethod m) { j = m == MrfMethod::kSwap ? "swap" : "expansion"; }
+void to_json(nlohmann::json& j, MrfMethod m) {
+  j = m == MrfMethod::kSwap ? "swap" : "expansion";
+}
 
 namespace {
 
@@ -99,7 +101,8 @@ SegmentParams params_from_json(const json& j, SegmentParams base) {
     if (sections.count(key)) {
       if (!value.is_object()) wrong_type(key, "an object", value);
       for (const auto& [sub, ignored] : value.items())
-        if (!known.count(key + "." + sub)) throw InputError("config: unknown key " + key + "." + sub);
+        if (!known.count(key + "." + sub))
+          throw InputError("config: unknown key " + key + "." + sub);
     } else if (!known.count(key)) {
       throw InputError("config: unknown key " + key);
     }
@@ -133,25 +136,34 @@ void validate(const SegmentParams& p) {
     if (!ok) throw InputError(std::string("field ") + field + ": expected " + expected);
   };
   auto finite = [](double v) { return std::isfinite(v); };
-  require(finite(p.voxels.voxel_size) && p.voxels.voxel_size > 0, "voxels.voxel_size", "a positive size in metres");
+  require(finite(p.voxels.voxel_size) && p.voxels.voxel_size > 0, "voxels.voxel_size",
+          "a positive size in metres");
   require(p.voxels.min_points_per_voxel >= 1, "voxels.min_points_per_voxel", ">= 1");
-  require(finite(p.features.colour_weight) && p.features.colour_weight >= 0, "features.colour_weight", ">= 0");
-  require(finite(p.features.texture_weight) && p.features.texture_weight >= 0, "features.texture_weight", ">= 0");
-  require(finite(p.features.shape_weight) && p.features.shape_weight >= 0, "features.shape_weight", ">= 0");
-  require(finite(p.features.gabor_wavelength) && p.features.gabor_wavelength >= 2, "features.gabor_wavelength",
-          ">= 2 pixels (Nyquist)");
-  require(finite(p.features.gabor_sigma) && p.features.gabor_sigma > 0, "features.gabor_sigma", "> 0 pixels");
+  require(finite(p.features.colour_weight) && p.features.colour_weight >= 0,
+          "features.colour_weight", ">= 0");
+  require(finite(p.features.texture_weight) && p.features.texture_weight >= 0,
+          "features.texture_weight", ">= 0");
+  require(finite(p.features.shape_weight) && p.features.shape_weight >= 0, "features.shape_weight",
+          ">= 0");
+  require(finite(p.features.gabor_wavelength) && p.features.gabor_wavelength >= 2,
+          "features.gabor_wavelength", ">= 2 pixels (Nyquist)");
+  require(finite(p.features.gabor_sigma) && p.features.gabor_sigma > 0, "features.gabor_sigma",
+          "> 0 pixels");
   require(p.features.texture_clip_quantile > 0 && p.features.texture_clip_quantile <= 1,
           "features.texture_clip_quantile", "in (0, 1]");
-  require(p.features.normal_step >= 1 && p.features.normal_step <= 50, "features.normal_step", "1..50 pixels");
+  require(p.features.normal_step >= 1 && p.features.normal_step <= 50, "features.normal_step",
+          "1..50 pixels");
   require(p.features.normal_knn >= 3, "features.normal_knn", ">= 3");
   require(p.clustering.alpha > 0 && p.clustering.alpha < 1, "clustering.alpha", "in (0, 1)");
-  require(p.clustering.pca_dims >= 1 && p.clustering.pca_dims <= kFeatureDims, "clustering.pca_dims", "1..454");
-  require(finite(p.clustering.prior_weight) && p.clustering.prior_weight > 0, "clustering.prior_weight", "> 0");
+  require(p.clustering.pca_dims >= 1 && p.clustering.pca_dims <= kFeatureDims,
+          "clustering.pca_dims", "1..454");
+  require(finite(p.clustering.prior_weight) && p.clustering.prior_weight > 0,
+          "clustering.prior_weight", "> 0");
   require(p.kmeans.max_iterations >= 1, "kmeans.max_iterations", ">= 1");
   require(finite(p.kmeans.tolerance) && p.kmeans.tolerance >= 0, "kmeans.tolerance", ">= 0");
   require(finite(p.mrf.unary_weight) && p.mrf.unary_weight >= 0, "mrf.unary_weight", ">= 0");
-  require(finite(p.mrf.pairwise_weight) && p.mrf.pairwise_weight >= 0, "mrf.pairwise_weight", ">= 0");
+  require(finite(p.mrf.pairwise_weight) && p.mrf.pairwise_weight >= 0, "mrf.pairwise_weight",
+          ">= 0");
   require(p.mrf.max_cycles >= 1, "mrf.max_cycles", ">= 1");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }

@@ -25,7 +25,8 @@ class Stopwatch {
 // Every valid point takes the label of its voxel; points of voxels too sparse to be clustered
 // take the label of the nearest clustered voxel (by voxel centroid).
 std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
-                                        const std::vector<int>& clustered, const std::vector<int>& labels) {
+                                        const std::vector<int>& clustered,
+                                        const std::vector<int>& labels) {
   std::vector<int> voxel_label(grid.size(), -1);
   for (std::size_t i = 0; i < clustered.size(); ++i) voxel_label[clustered[i]] = labels[i];
   auto centroid = [&](int v) {
@@ -72,7 +73,9 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
   if (params.clustering.balance_blocks)
-    balance_blocks(r.features, {{0, kColourDims}, {kColourDims, kTextureDims}, {kColourDims + kTextureDims, kShapeDims}});
+    balance_blocks(
+        r.features,
+        {{0, kColourDims}, {kColourDims, kTextureDims}, {kColourDims + kTextureDims, kShapeDims}});
   r.space = principal_axes(r.features, params.clustering.pca_dims);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
@@ -80,7 +83,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
 
   // 4. k-means [3.2] from Algorithm 1's centroids.
   Eigen::MatrixXd start(r.initial_centroids.size(), x.cols());
-  for (std::size_t s = 0; s < r.initial_centroids.size(); ++s) start.row(s) = r.initial_centroids[s].mu.transpose();
+  for (std::size_t s = 0; s < r.initial_centroids.size(); ++s)
+    start.row(s) = r.initial_centroids[s].mu.transpose();
   KMeansResult km = kmeans(x, start, params.kmeans);
   r.centroids = km.centroids;
   r.labels_kmeans = km.labels;

@@ -74,7 +74,8 @@ std::vector<int> dense_voxels(const VoxelGrid& grid, int min_points) {
   return out;
 }
 
-std::vector<std::vector<int>> induced_neighbours(const VoxelGrid& grid, const std::vector<int>& subset) {
+std::vector<std::vector<int>> induced_neighbours(const VoxelGrid& grid,
+                                                 const std::vector<int>& subset) {
   std::vector<int> local(grid.size(), -1);
   for (std::size_t i = 0; i < subset.size(); ++i) local[subset[i]] = static_cast<int>(i);
   std::vector<std::vector<int>> out(subset.size());

@@ -76,7 +76,8 @@ TEST(Algorithm1, ThreeColoursOnAGridAndTheTestThreshold) {
   for (int v = 0; v < w; ++v)
     for (int u = 0; u < w; ++u) {
       if (u + 1 < w) g[v * w + u].push_back(v * w + u + 1), g[v * w + u + 1].push_back(v * w + u);
-      if (v + 1 < w) g[v * w + u].push_back((v + 1) * w + u), g[(v + 1) * w + u].push_back(v * w + u);
+      if (v + 1 < w)
+        g[v * w + u].push_back((v + 1) * w + u), g[(v + 1) * w + u].push_back(v * w + u);
     }
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.2);
@@ -91,7 +92,8 @@ TEST(Algorithm1, ThreeColoursOnAGridAndTheTestThreshold) {
   // A confidence so strict that nothing ever matches gives one centroid per voxel.
   ClusteringParams strict;
   strict.alpha = 1e-9;
-  EXPECT_EQ(initial_centroids(x, g, Eigen::Vector2d(16.0, 2.0), strict).size(), static_cast<std::size_t>(w * w));
+  EXPECT_EQ(initial_centroids(x, g, Eigen::Vector2d(16.0, 2.0), strict).size(),
+            static_cast<std::size_t>(w * w));
 }
 
 TEST(KMeans, ConvergesDropsEmptyAndLabelsAgree) {

@@ -80,10 +80,10 @@ TEST(ShapeFeature, PlaneLineAndBlob) {
 
 TEST(ShapeFeature, NormalAnglesSpreadOverBins) {
   std::vector<Eigen::Vector3f> pts(4, Eigen::Vector3f::Zero()), normals;
-  normals.emplace_back(1, 0, 0);                    // theta pi/2 (bin 5), phi 0 (bin 5)
-  normals.emplace_back(0, 1, 0);                    // theta pi/2, phi pi/2 (bin 7)
-  normals.emplace_back(0, 0, -1);                   // theta pi (bin 9), phi 0
-  normals.emplace_back(std::nanf(""), 0, 0);        // ignored
+  normals.emplace_back(1, 0, 0);              // theta pi/2 (bin 5), phi 0 (bin 5)
+  normals.emplace_back(0, 1, 0);              // theta pi/2, phi pi/2 (bin 7)
+  normals.emplace_back(0, 0, -1);             // theta pi (bin 9), phi 0
+  normals.emplace_back(std::nanf(""), 0, 0);  // ignored
   const Eigen::VectorXf f = shape_feature(pts, normals);
   EXPECT_NEAR(f(4 + 5 * 10 + 5), 1.0 / 3, 1e-6);
   EXPECT_NEAR(f(4 + 5 * 10 + 7), 1.0 / 3, 1e-6);
@@ -130,11 +130,13 @@ TEST(GaborBank, MatchesADirectConvolution) {
       std::complex<double> acc = 0;
       for (int dy = -12; dy <= 12; ++dy)
         for (int dx = -12; dx <= 12; ++dx) {
-          const double g = std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) / (2 * kPi * sigma * sigma);
+          const double g =
+              std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) / (2 * kPi * sigma * sigma);
           const double grey = 0.299 * f.rgb[(v - dy) * w + (u - dx)][0] / 255.0;
           acc += g * std::polar(1.0, 2 * kPi * f0 * (dx * std::cos(th) + dy * std::sin(th))) * grey;
         }
-      EXPECT_NEAR(bank.magnitude[o][v * w + u], std::abs(acc), 2e-3 + 0.02 * std::abs(acc)) << "orientation " << o;
+      EXPECT_NEAR(bank.magnitude[o][v * w + u], std::abs(acc), 2e-3 + 0.02 * std::abs(acc))
+          << "orientation " << o;
     }
   }
 }
@@ -168,7 +170,8 @@ TEST(TextureFeature, StripesDifferFromFlat) {
 
 TEST(VoxelFeatures, BlocksWeightsAndThreads) {
   Frame f = plane_frame(64, 48, 1.f, 0.3f);
-  for (std::size_t i = 0; i < f.size(); ++i) f.rgb[i] = {static_cast<std::uint8_t>(i % 256), 80, 200};
+  for (std::size_t i = 0; i < f.size(); ++i)
+    f.rgb[i] = {static_cast<std::uint8_t>(i % 256), 80, 200};
   const VoxelGrid g = build_voxels(f, 0.02);
   const std::vector<int> all = dense_voxels(g, 1);
   FeatureParams p;
@@ -184,7 +187,8 @@ TEST(VoxelFeatures, BlocksWeightsAndThreads) {
   p.colour_weight = 2.0;
   p.use_texture = false;
   const Eigen::MatrixXf c = voxel_features(f, g, all, p, 1);
-  EXPECT_NEAR((c.leftCols(kColourDims) - 2 * a.leftCols(kColourDims)).cwiseAbs().maxCoeff(), 0, 1e-6);
+  EXPECT_NEAR((c.leftCols(kColourDims) - 2 * a.leftCols(kColourDims)).cwiseAbs().maxCoeff(), 0,
+              1e-6);
   EXPECT_EQ(c.middleCols(kColourDims, kTextureDims).cwiseAbs().maxCoeff(), 0.f);
   EXPECT_EQ((c.rightCols(kShapeDims) - a.rightCols(kShapeDims)).cwiseAbs().maxCoeff(), 0.f);
 }

@@ -30,7 +30,9 @@ std::map<std::uint32_t, std::uint32_t> majority(const std::vector<std::uint32_t>
     if (truth[i]) ++counts[truth[i]][pred[i]];
   std::map<std::uint32_t, std::uint32_t> out;
   for (const auto& [t, c] : counts)
-    out[t] = std::max_element(c.begin(), c.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    out[t] = std::max_element(c.begin(), c.end(), [](auto& a, auto& b) {
+               return a.second < b.second;
+             })->first;
   return out;
 }
 
@@ -76,13 +78,15 @@ TEST(Pipeline, RealMosdSceneSeparatesObjectsFromTable) {
   const double v = v_measure(truth, r.point_labels).v;
   std::cout << "learn0: k = " << r.k() << ", V = " << v << "\n";
   EXPECT_GE(v, 0.40);
-  EXPECT_EQ(objects_apart(truth, r.point_labels, 1), static_cast<int>(majority(truth, truth).size()) - 1);
+  EXPECT_EQ(objects_apart(truth, r.point_labels, 1),
+            static_cast<int>(majority(truth, truth).size()) - 1);
 }
 
 TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
   // Table 1 of the paper: V-measure of k-means+MRF above k-means alone.
   double v_kmeans = 0, v_mrf = 0;
-  for (const char* scene : {"mosd/learn/learn0.pcd", "mosd/learn/learn20.pcd", "mosd/learn/learn30.pcd"}) {
+  for (const char* scene :
+       {"mosd/learn/learn0.pcd", "mosd/learn/learn20.pcd", "mosd/learn/learn30.pcd"}) {
     const Frame f = read_pcd(data(scene));
     SegmentParams p;
     const auto truth = mosd_objects(f.label);
@@ -98,7 +102,8 @@ TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
 TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {
   const std::string base = kData + "/ycbv/frames/000001";
   data("ycbv/frames/000001-color.png");
-  const Frame f = read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(base + "-meta.json"));
+  const Frame f =
+      read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(base + "-meta.json"));
   const SegmentResult r = segment(f, SegmentParams{});
   expect_every_valid_point_labelled(f, r);
   const cv::Mat mask = cv::imread(base + "-label.png", cv::IMREAD_UNCHANGED);

@@ -21,13 +21,16 @@ Frame cloud(const std::vector<Eigen::Vector3f>& pts) {
 
 TEST(Voxels, PointsGoToTheirCell) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  Frame f = cloud({{0.001f, 0.001f, 0.001f}, {0.019f, 0.019f, 0.019f}, {0.021f, 0.f, 0.f}, {nan, nan, nan},
+  Frame f = cloud({{0.001f, 0.001f, 0.001f},
+                   {0.019f, 0.019f, 0.019f},
+                   {0.021f, 0.f, 0.f},
+                   {nan, nan, nan},
                    {-0.001f, 0.f, 0.f}});
   const VoxelGrid g = build_voxels(f, 0.02);
   ASSERT_EQ(g.size(), 3u);
   EXPECT_EQ(g.voxel_of_point[0], g.voxel_of_point[1]);
   EXPECT_NE(g.voxel_of_point[0], g.voxel_of_point[2]);
-  EXPECT_EQ(g.voxel_of_point[3], -1);  // invalid point
+  EXPECT_EQ(g.voxel_of_point[3], -1);                   // invalid point
   EXPECT_NE(g.voxel_of_point[4], g.voxel_of_point[0]);  // floor, not truncation, at negative x
   const int v0 = g.voxel_of_point[0];
   EXPECT_EQ(g.keys[v0], Eigen::Vector3i(0, 0, 0));
@@ -39,7 +42,8 @@ TEST(Voxels, TwentySixNeighboursOfAFullCube) {
   std::vector<Eigen::Vector3f> pts;
   for (int z = 0; z < 3; ++z)
     for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x) pts.emplace_back(0.01f + 0.02f * x, 0.01f + 0.02f * y, 0.01f + 0.02f * z);
+      for (int x = 0; x < 3; ++x)
+        pts.emplace_back(0.01f + 0.02f * x, 0.01f + 0.02f * y, 0.01f + 0.02f * z);
   const VoxelGrid g = build_voxels(cloud(pts), 0.02);
   ASSERT_EQ(g.size(), 27u);
   const int centre = g.voxel_of_point[13];
@@ -63,7 +67,8 @@ TEST(Voxels, AdjacencyIsSymmetricAndOnlyTouchingCells) {
       EXPECT_NE(n, static_cast<int>(v));
       const Eigen::Vector3i d = (g.keys[n] - g.keys[v]).cwiseAbs();
       EXPECT_LE(d.maxCoeff(), 1);
-      EXPECT_TRUE(std::binary_search(g.neighbours[n].begin(), g.neighbours[n].end(), static_cast<int>(v)))
+      EXPECT_TRUE(
+          std::binary_search(g.neighbours[n].begin(), g.neighbours[n].end(), static_cast<int>(v)))
           << "asymmetric " << v << " -> " << n;
       ++pairs;
     }

@@ -18,16 +18,16 @@ struct ClusteringParams {
 };
 
 struct Centroid {
-  int n = 0;               // voxels merged into it
-  Eigen::VectorXd mu;      // mean feature
-  Eigen::MatrixXd sigma;   // sample covariance (line 14 of Algorithm 1)
+  int n = 0;              // voxels merged into it
+  Eigen::VectorXd mu;     // mean feature
+  Eigen::MatrixXd sigma;  // sample covariance (line 14 of Algorithm 1)
 };
 
 // Principal axes of the feature rows: the space Algorithm 1, k-means and the MRF work in.
 struct FeatureSpace {
-  Eigen::VectorXd mean;        // of the raw features
-  Eigen::MatrixXd axes;        // raw dims x pca_dims, orthonormal columns
-  Eigen::VectorXd variances;   // along each axis (the global covariance there is diagonal)
+  Eigen::VectorXd mean;       // of the raw features
+  Eigen::MatrixXd axes;       // raw dims x pca_dims, orthonormal columns
+  Eigen::VectorXd variances;  // along each axis (the global covariance there is diagonal)
 };
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
 // Multiplies each block of columns [start, start + size) by 1 / sqrt(its total variance).
@@ -47,7 +47,8 @@ double chi_square_quantile(double alpha, int dof);
 
 struct KMeansParams {
   int max_iterations = 100;
-  double tolerance = 1e-6;  // stop when no centroid moves more than this (relative to the data scale)
+  double tolerance =
+      1e-6;  // stop when no centroid moves more than this (relative to the data scale)
 };
 struct KMeansResult {
   Eigen::MatrixXd centroids;  // k x dims, empty clusters dropped
@@ -55,6 +56,7 @@ struct KMeansResult {
   int iterations = 0;
 };
 // Lloyd's algorithm from the given centroids (rows).
-KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial, const KMeansParams& params);
+KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial,
+                    const KMeansParams& params);
 
 }  // namespace proxseg

@@ -19,11 +19,11 @@ struct FeatureParams {
   bool use_colour = true, use_texture = true, use_shape = true;
   // Each block is multiplied by its weight (a switched-off block is all zeros).
   double colour_weight = 1.0, texture_weight = 1.0, shape_weight = 1.0;
-  double gabor_wavelength = 4.0;  // pixels, at every pyramid level (scale s = level s)
-  double gabor_sigma = 2.0;       // pixels, envelope of the Gabor kernel at each level
+  double gabor_wavelength = 4.0;        // pixels, at every pyramid level (scale s = level s)
+  double gabor_sigma = 2.0;             // pixels, envelope of the Gabor kernel at each level
   double texture_clip_quantile = 0.99;  // upper bin edge per filter = this quantile over the frame
-  int normal_step = 3;            // organized clouds: pixel offset of the central differences
-  int normal_knn = 20;            // unorganized clouds: neighbours for PCA normals
+  int normal_step = 3;                  // organized clouds: pixel offset of the central differences
+  int normal_knn = 20;                  // unorganized clouds: neighbours for PCA normals
 };
 
 // Colour block of one voxel from its points' colours.
@@ -48,7 +48,8 @@ Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& p
 std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params);
 
 // Feature matrix: one row per voxel of `voxels`, kFeatureDims columns, block weights applied.
-Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid, const std::vector<int>& voxels,
-                               const FeatureParams& params, int threads);
+Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
+                               const std::vector<int>& voxels, const FeatureParams& params,
+                               int threads);
 
 }  // namespace proxseg

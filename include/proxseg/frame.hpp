@@ -13,15 +13,17 @@ namespace proxseg {
 using Rgb = std::array<std::uint8_t, 3>;  // r, g, b
 
 struct Frame {
-  int width = 0;   // image columns; number of points when unorganized
-  int height = 0;  // image rows; 1 when unorganized
+  int width = 0;                     // image columns; number of points when unorganized
+  int height = 0;                    // image rows; 1 when unorganized
   std::vector<Eigen::Vector3f> xyz;  // metres, sensor frame; NaN = invalid (no return)
   std::vector<Rgb> rgb;              // one per point
   std::vector<std::uint32_t> label;  // optional ground truth (empty when absent)
 
   bool organized() const { return height > 1; }
   std::size_t size() const { return xyz.size(); }
-  bool valid(std::size_t i) const { return std::isfinite(xyz[i].x()) && std::isfinite(xyz[i].y()) && std::isfinite(xyz[i].z()); }
+  bool valid(std::size_t i) const {
+    return std::isfinite(xyz[i].x()) && std::isfinite(xyz[i].y()) && std::isfinite(xyz[i].z());
+  }
   std::size_t valid_count() const {
     std::size_t n = 0;
     for (std::size_t i = 0; i < xyz.size(); ++i) n += valid(i);

@@ -10,7 +10,8 @@ namespace proxseg {
 struct VMeasure {
   double homogeneity = 0, completeness = 0, v = 0;
 };
-VMeasure v_measure(const std::vector<std::uint32_t>& truth, const std::vector<std::uint32_t>& predicted);
+VMeasure v_measure(const std::vector<std::uint32_t>& truth,
+                   const std::vector<std::uint32_t>& predicted);
 
 // mOSD labels to objects: 0 stays 0 (invalid), 1-9 (table parts) -> 1, 20-29 -> 2, 30-39 -> 3, ...
 std::vector<std::uint32_t> mosd_objects(const std::vector<std::uint32_t>& labels);

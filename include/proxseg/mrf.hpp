@@ -10,19 +10,19 @@ enum class MrfMethod { kSwap, kExpansion };
 
 struct MrfParams {
   bool enabled = true;
-  double unary_weight = 1.0;       // w_u (paper: 1.0)
+  double unary_weight = 1.0;  // w_u (paper: 1.0)
   // w_c. The paper's 0.275 (its octree neighbourhood, each pair counted twice in eq. 1) erases
   // objects under ~30 cm on the 26-neighbour voxel graph; 0.05 per unordered pair keeps them
   // (docs/method.md has the measurements).
   double pairwise_weight = 0.05;
   MrfMethod method = MrfMethod::kSwap;
-  int max_cycles = 100;            // safety cap on full sweeps over label pairs
+  int max_cycles = 100;  // safety cap on full sweeps over label pairs
 };
 
 // E(l) = sum_j unary(j, l_j) + sum_{(j,k) in edges} w_c [l_j != l_k]; each edge listed once.
 struct MrfProblem {
-  Eigen::MatrixXd unary;                    // nodes x labels
-  std::vector<std::pair<int, int>> edges;   // j < k
+  Eigen::MatrixXd unary;                   // nodes x labels
+  std::vector<std::pair<int, int>> edges;  // j < k
   double pairwise_weight = 0;
   int nodes() const { return static_cast<int>(unary.rows()); }
   int labels() const { return static_cast<int>(unary.cols()); }
@@ -30,7 +30,8 @@ struct MrfProblem {
 
 // Eq. 2 with the sign fixed: psi_j(l) = -w_u log(1 - d_jl / sum_l' d_jl'), d = Euclidean distance
 // from row j of x to centroid l. With k = 1 the unary is 0.
-Eigen::MatrixXd unary_potentials(const Eigen::MatrixXd& x, const Eigen::MatrixXd& centroids, double unary_weight);
+Eigen::MatrixXd unary_potentials(const Eigen::MatrixXd& x, const Eigen::MatrixXd& centroids,
+                                 double unary_weight);
 
 // Unordered neighbour pairs (j < k) of a symmetric adjacency list.
 std::vector<std::pair<int, int>> edge_list(const std::vector<std::vector<int>>& neighbours);
@@ -40,8 +41,8 @@ double energy(const MrfProblem& problem, const std::vector<int>& labels);
 struct MrfResult {
   std::vector<int> labels;
   double energy_before = 0, energy_after = 0;
-  int cycles = 0;                   // full sweeps done
-  std::vector<double> energy_trace; // energy after every accepted move
+  int cycles = 0;                    // full sweeps done
+  std::vector<double> energy_trace;  // energy after every accepted move
 };
 
 // Alpha-beta swap moves (Boykov, Veksler, Zabih 2001) on Boost's Boykov-Kolmogorov max-flow,

@@ -24,16 +24,16 @@ struct SegmentParams {
 
 struct SegmentResult {
   VoxelGrid voxels;
-  std::vector<int> clustered;          // voxels that were clustered (>= min_points_per_voxel)
-  Eigen::MatrixXf features;            // one row per clustered voxel
-  FeatureSpace space;                  // principal axes the clustering works in
+  std::vector<int> clustered;               // voxels that were clustered (>= min_points_per_voxel)
+  Eigen::MatrixXf features;                 // one row per clustered voxel
+  FeatureSpace space;                       // principal axes the clustering works in
   std::vector<Centroid> initial_centroids;  // Algorithm 1
-  Eigen::MatrixXd centroids;           // after k-means (projected space)
-  std::vector<int> labels_kmeans;      // per clustered voxel, 0..k-1
-  std::vector<int> labels;             // per clustered voxel after the MRF (= k-means if off)
+  Eigen::MatrixXd centroids;                // after k-means (projected space)
+  std::vector<int> labels_kmeans;           // per clustered voxel, 0..k-1
+  std::vector<int> labels;                  // per clustered voxel after the MRF (= k-means if off)
   double energy_before = 0, energy_after = 0;
   int kmeans_iterations = 0, mrf_cycles = 0;
-  std::vector<std::uint32_t> point_labels;  // per point: 0 invalid, 1..k
+  std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k
   std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
   int k() const { return static_cast<int>(centroids.rows()); }
 };

@@ -13,10 +13,10 @@ struct VoxelParams {
 
 struct VoxelGrid {
   double voxel_size = 0;
-  std::vector<Eigen::Vector3i> keys;            // integer cell coordinates
-  std::vector<std::vector<int>> points;         // point indices in each voxel (ascending)
-  std::vector<std::vector<int>> neighbours;     // occupied 26-neighbours (ascending, symmetric)
-  std::vector<int> voxel_of_point;              // per point; -1 for invalid points
+  std::vector<Eigen::Vector3i> keys;         // integer cell coordinates
+  std::vector<std::vector<int>> points;      // point indices in each voxel (ascending)
+  std::vector<std::vector<int>> neighbours;  // occupied 26-neighbours (ascending, symmetric)
+  std::vector<int> voxel_of_point;           // per point; -1 for invalid points
   std::size_t size() const { return keys.size(); }
 };
 
@@ -28,6 +28,7 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size);
 std::vector<int> dense_voxels(const VoxelGrid& grid, int min_points);
 
 // The graph induced on a subset of voxels, in the subset's own numbering.
-std::vector<std::vector<int>> induced_neighbours(const VoxelGrid& grid, const std::vector<int>& subset);
+std::vector<std::vector<int>> induced_neighbours(const VoxelGrid& grid,
+                                                 const std::vector<int>& subset);
 
 }  // namespace proxseg
