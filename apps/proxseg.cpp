@@ -121,8 +121,7 @@ int run_segment(const SegmentOptions& o) {
             << frame.height << ")\n";
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
   make_parent(o.output);
-  proxseg::write_segmentation(o.output, frame, params, result);
-  const nlohmann::json report = proxseg::segmentation_report(frame, params, result);
+  const nlohmann::json report = proxseg::write_segmentation(o.output, frame, params, result);
   if (o.json) {
     std::cout << report.dump(2) << "\n";
   } else {

@@ -44,13 +44,13 @@ FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims) {
   return space;
 }
 
-void balance_blocks(Eigen::MatrixXf& features, const std::vector<std::pair<int, int>>& blocks) {
+void balance_blocks(Eigen::MatrixXf& features, const std::vector<FeatureBlock>& blocks) {
   if (features.rows() < 2) return;
-  for (const auto& [start, size] : blocks) {
-    auto block = features.middleCols(start, size);
+  for (const FeatureBlock& b : blocks) {
+    auto block = features.middleCols(b.start, b.size);
     const Eigen::RowVectorXf mean = block.colwise().mean();
     const double variance = (block.rowwise() - mean).squaredNorm() / (features.rows() - 1.0);
-    if (variance > 0) block /= static_cast<float>(std::sqrt(variance));
+    if (variance > 0) block *= static_cast<float>(b.weight / std::sqrt(variance));
   }
 }
 

@@ -136,23 +136,24 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   return j;
 }
 
-void write_segmentation(const std::string& prefix, const Frame& frame, const SegmentParams& params,
-                        const SegmentResult& result) {
+nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
+                                  const SegmentParams& params, const SegmentResult& result) {
   // Everything is produced in memory first so that a failure leaves no partial set of files.
   const std::string png = label_image_png(frame, result.point_labels);
-  const std::string report = segmentation_report(frame, params, result).dump(2) + "\n";
+  nlohmann::json report = segmentation_report(frame, params, result);
   std::vector<std::string> written;
   try {
     write_pcd(prefix + ".pcd", frame, {{"label", result.point_labels}});
     written.push_back(prefix + ".pcd");
     write_file_atomic(prefix + ".png", png);
     written.push_back(prefix + ".png");
-    write_file_atomic(prefix + ".json", report);
+    write_file_atomic(prefix + ".json", report.dump(2) + "\n");
   } catch (...) {
     std::error_code ec;
     for (const auto& f : written) std::filesystem::remove(f, ec);
     throw;
   }
+  return report;
 }
 
 }  // namespace proxseg

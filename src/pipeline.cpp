@@ -72,10 +72,13 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.times_ms.emplace_back("features", watch.lap());
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
-  if (params.clustering.balance_blocks)
-    balance_blocks(
-        r.features,
-        {{0, kColourDims}, {kColourDims, kTextureDims}, {kColourDims + kTextureDims, kShapeDims}});
+  // The block weights were applied by voxel_features; balancing re-applies them after equalising.
+  if (params.clustering.balance_blocks) {
+    const FeatureParams& fp = params.features;
+    balance_blocks(r.features, {{0, kColourDims, fp.colour_weight},
+                                {kColourDims, kTextureDims, fp.texture_weight},
+                                {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
+  }
   r.space = principal_axes(r.features, params.clustering.pca_dims);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);

@@ -152,3 +152,18 @@ TEST(PrincipalAxes, RecoversTheDominantDirection) {
   const Eigen::MatrixXd x = project(s, f);
   EXPECT_NEAR(x.col(0).mean(), 0.0, 1e-4);
 }
+
+TEST(BalanceBlocks, EqualVarianceThenTheBlockWeights) {
+  std::mt19937 rng(8);
+  std::normal_distribution<float> n(0.f, 1.f);
+  Eigen::MatrixXf f(400, 5);
+  for (int i = 0; i < 400; ++i)
+    f.row(i) << 10 * n(rng), 10 * n(rng), 0.1f * n(rng), 0.1f * n(rng), 0.1f * n(rng);
+  auto variance = [&](int start, int size) {
+    const Eigen::MatrixXf b = f.middleCols(start, size);
+    return (b.rowwise() - b.colwise().mean()).squaredNorm() / (f.rows() - 1.0);
+  };
+  balance_blocks(f, {{0, 2, 1.0}, {2, 3, 2.0}});
+  EXPECT_NEAR(variance(0, 2), 1.0, 1e-4);
+  EXPECT_NEAR(variance(2, 3), 4.0, 1e-3);  // the weight survives the balancing
+}

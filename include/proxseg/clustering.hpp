@@ -30,8 +30,14 @@ struct FeatureSpace {
   Eigen::VectorXd variances;  // along each axis (the global covariance there is diagonal)
 };
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
-// Multiplies each block of columns [start, start + size) by 1 / sqrt(its total variance).
-void balance_blocks(Eigen::MatrixXf& features, const std::vector<std::pair<int, int>>& blocks);
+// A block of feature columns [start, start + size) and the weight it should carry.
+struct FeatureBlock {
+  int start = 0, size = 0;
+  double weight = 1.0;
+};
+// Scales each block to a total variance of weight^2 over the rows: equal footing for the blocks,
+// then the user's block weights on top (a block whose values are all equal is left as it is).
+void balance_blocks(Eigen::MatrixXf& features, const std::vector<FeatureBlock>& blocks);
 Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& features);
 
 // Algorithm 1: breadth-first walk over the voxel graph growing centroids in feature space.

@@ -13,8 +13,9 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
 // A picture of the labels: the colour image with labels blended in and boundaries drawn
 // (organized input), or the points rendered from the sensor origin (unorganized input). PNG bytes.
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
-// Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all.
-void write_segmentation(const std::string& prefix, const Frame& frame, const SegmentParams& params,
-                        const SegmentResult& result);
+// Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all. Returns the
+// report written to PREFIX.json.
+nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
+                                  const SegmentParams& params, const SegmentResult& result);
 
 }  // namespace proxseg

@@ -25,7 +25,7 @@ struct SegmentParams {
 struct SegmentResult {
   VoxelGrid voxels;
   std::vector<int> clustered;               // voxels that were clustered (>= min_points_per_voxel)
-  Eigen::MatrixXf features;                 // one row per clustered voxel
+  Eigen::MatrixXf features;                 // one row per clustered voxel, block-balanced
   FeatureSpace space;                       // principal axes the clustering works in
   std::vector<Centroid> initial_centroids;  // Algorithm 1
   Eigen::MatrixXd centroids;                // after k-means (projected space)
