@@ -1,12 +1,17 @@
 // proxseg command-line tool: proxseg <command> [options]. Logs on stderr, results on stdout or
 // files. Exit codes: 0 success, 1 bad input, 2 usage.
+#include <proxseg/evaluation.hpp>
 #include <proxseg/io.hpp>
 #include <proxseg/output.hpp>
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 #include <proxseg/render.hpp>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -16,18 +21,19 @@ namespace {
 using proxseg::InputError;
 
 struct SegmentOptions {
-  std::string input, output, color, depth, intrinsics, meta, config;
+  std::string input, output, color, depth, intrinsics, meta, config, candidates_dir;
+  std::string preset = "default";
   bool no_mrf = false, json = false;
   std::optional<std::string> mrf_method;
   std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
-      shape_weight;
-  std::optional<int> min_points, pca_dims, threads;
+      shape_weight, cluster_tolerance;
+  std::optional<int> min_points, pca_dims, threads, min_candidate_points;
   bool no_colour = false, no_texture = false, no_shape = false;
 };
 
 void add_segment(CLI::App& app, SegmentOptions& o) {
   auto* cmd =
-      app.add_subcommand("segment", "Segment an RGB-D scene into labelled regions (paper 3.1-3.2)");
+      app.add_subcommand("segment", "Segment an RGB-D scene into regions and candidate objects (paper 3.1-3.3)");
   cmd->add_option("input", o.input,
                   "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
   cmd->add_option("-o,--output", o.output,
@@ -38,8 +44,13 @@ void add_segment(CLI::App& app, SegmentOptions& o) {
   cmd->add_option("--intrinsics", o.intrinsics,
                   "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
   cmd->add_option("--meta", o.meta, "YCB-Video meta JSON (intrinsic_matrix, factor_depth)");
+  cmd->add_option("--preset", o.preset,
+                  "Base parameters: default (best measured) or paper (the paper's settings)")
+      ->check(CLI::IsMember({"default", "paper"}));
   cmd->add_option("--config", o.config,
-                  "JSON parameters (same layout as the report's \"parameters\")");
+                  "JSON parameters over the preset (same layout as the report's \"parameters\")");
+  cmd->add_option("--candidates-dir", o.candidates_dir,
+                  "Also write one PCD per candidate object to this directory");
   cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
   cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
       ->check(CLI::IsMember({"swap", "expansion"}));
@@ -56,14 +67,18 @@ void add_segment(CLI::App& app, SegmentOptions& o) {
   cmd->add_flag("--no-colour", o.no_colour, "Switch the colour block off");
   cmd->add_flag("--no-texture", o.no_texture, "Switch the texture block off");
   cmd->add_flag("--no-shape", o.no_shape, "Switch the shape block off");
+  cmd->add_option("--cluster-tolerance", o.cluster_tolerance,
+                  "Euclidean clustering tolerance of the selection, metres");
+  cmd->add_option("--min-candidate-points", o.min_candidate_points,
+                  "Smaller components are not candidates");
   cmd->add_option("--threads", o.threads,
                   "Worker threads (0 = all cores); results do not depend on it");
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
 }
 
-// Defaults < --config < individual flags.
+// Preset < --config < individual flags.
 proxseg::SegmentParams segment_params(const SegmentOptions& o) {
-  proxseg::SegmentParams p;
+  proxseg::SegmentParams p = proxseg::preset(o.preset);
   if (!o.config.empty()) p = proxseg::read_params(o.config, p);
   if (o.voxel_size) p.voxels.voxel_size = *o.voxel_size;
   if (o.min_points) p.voxels.min_points_per_voxel = *o.min_points;
@@ -82,6 +97,8 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o) {
   if (o.mrf_method)
     p.mrf.method =
         *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
+  if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
+  if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
   if (o.threads) p.threads = *o.threads;
   proxseg::validate(p);
   return p;
@@ -122,12 +139,17 @@ int run_segment(const SegmentOptions& o) {
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
   make_parent(o.output);
   const nlohmann::json report = proxseg::write_segmentation(o.output, frame, params, result);
+  if (!o.candidates_dir.empty()) {
+    const auto files = proxseg::write_candidates(o.candidates_dir, frame, result);
+    std::cerr << "proxseg: " << files.size() << " candidate clouds in " << o.candidates_dir << "\n";
+  }
   if (o.json) {
     std::cout << report.dump(2) << "\n";
   } else {
     std::cout << o.output << ".pcd " << o.output << ".png " << o.output
               << ".json: " << result.voxels.size() << " voxels, " << result.initial_centroids.size()
               << " initial centroids, k = " << result.k() << ", "
+              << report["selection"]["candidates"].get<int>() << " candidates, "
               << report["times_ms"]["total"].get<double>() << " ms\n";
   }
   return 0;
@@ -149,6 +171,201 @@ int run_synth(const SynthOptions& o) {
   return 0;
 }
 
+
+// A progress bar on stderr for batch work: redrawn in place on a terminal, one line per step
+// otherwise (logs stay readable in CI).
+class Progress {
+ public:
+  explicit Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
+  void step(const std::string& what) {
+    ++done_;
+    if (tty_) {
+      const int width = 30, filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
+      std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
+                << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
+      if (done_ == total_) std::cerr << "\n";
+    } else {
+      std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
+    }
+  }
+
+ private:
+  std::size_t total_, done_ = 0;
+  bool tty_;
+};
+
+struct EvalOptions {
+  std::string truth, predicted, field, batch, pred_dir, output, config;
+  std::string preset = "default";
+  std::optional<int> threads;
+  bool json = false;
+};
+
+void add_eval(CLI::App& app, EvalOptions& o) {
+  auto* cmd = app.add_subcommand(
+      "eval-seg", "Score a segmentation against ground truth (docs/metrics.md), or a whole folder");
+  cmd->add_option("truth", o.truth, "Ground-truth PCD with a label field (e.g. mOSD)");
+  cmd->add_option("predicted", o.predicted,
+                  "Predicted PCD of the same cloud (proxseg output or any PCD with the field)");
+  cmd->add_option("--field", o.field,
+                  "Predicted field to score (default: instance if present, else label)");
+  cmd->add_option("--batch", o.batch,
+                  "Score every labelled PCD of this folder (segmenting each unless --pred-dir)");
+  cmd->add_option("--pred-dir", o.pred_dir,
+                  "With --batch: read predictions DIR/<scene>.pcd instead of segmenting");
+  cmd->add_option("-o,--output", o.output,
+                  "With --batch: write scenes.csv, summary.md, summary.json to this folder");
+  cmd->add_option("--preset", o.preset, "With --batch: segmentation preset (default, paper)")
+      ->check(CLI::IsMember({"default", "paper"}));
+  cmd->add_option("--config", o.config, "With --batch: JSON segmentation parameters");
+  cmd->add_option("--threads", o.threads, "Worker threads for segmenting (0 = all cores)");
+  cmd->add_flag("--json", o.json, "Print JSON instead of a table");
+}
+
+// The predicted labels of a PCD: the requested field, or instance, else label.
+std::vector<std::uint32_t> read_prediction(const std::string& path, const std::string& field,
+                                           std::size_t expected) {
+  std::vector<std::uint32_t> labels;
+  for (const std::string& f : field.empty() ? std::vector<std::string>{"instance", "label"}
+                                            : std::vector<std::string>{field}) {
+    labels = proxseg::read_pcd(path, f).label;
+    if (!labels.empty()) break;
+  }
+  if (labels.empty())
+    throw InputError(path + ": has no " + (field.empty() ? "instance or label" : field) +
+                     " field (expected per-point predicted labels)");
+  if (labels.size() != expected)
+    throw InputError(path + ": has " + std::to_string(labels.size()) +
+                     " points but the ground truth has " + std::to_string(expected) +
+                     " (expected the same cloud)");
+  return labels;
+}
+
+void print_scores(const proxseg::SceneScores& s) {
+  std::cout << "scheme   P(paper) R(paper)  V      hom    compl  WOv    objP   objR   objF   "
+               "F>=.75 over under objects segments\n";
+  for (const auto& [name, x] : {std::pair{"objects", &s.objects}, std::pair{"parts", &s.parts}}) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%-8s %-8.3f %-9.3f %-6.3f %-6.3f %-6.3f %-6.3f %-6.3f %-6.3f %-6.3f %-6.3f "
+                  "%-4d %-5d %-7d %d\n",
+                  name, x->paper_precision, x->paper_recall, x->v.v, x->v.homogeneity,
+                  x->v.completeness, x->weighted_overlap, x->object_precision, x->object_recall,
+                  x->object_f, x->detected_075, x->over_segmented, x->under_segmented,
+                  x->truth_objects, x->segments);
+    std::cout << line;
+  }
+}
+
+// Scene files of a folder in natural order (learn2 before learn10).
+std::vector<std::filesystem::path> scene_files(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(dir + ": not a directory (expected a folder of labelled PCD scenes)");
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".pcd") files.push_back(e.path());
+  auto key = [](const std::filesystem::path& p) {
+    const std::string stem = p.stem().string();
+    std::size_t i = stem.size();
+    while (i > 0 && std::isdigit(static_cast<unsigned char>(stem[i - 1]))) --i;
+    const long n = i < stem.size() ? std::stol(stem.substr(i, 9)) : -1;
+    return std::make_pair(stem.substr(0, i), n);
+  };
+  std::sort(files.begin(), files.end(), [&](const auto& a, const auto& b) {
+    return std::make_pair(key(a), a.string()) < std::make_pair(key(b), b.string());
+  });
+  if (files.empty()) throw InputError(dir + ": no .pcd files (expected labelled PCD scenes)");
+  return files;
+}
+
+int run_eval_batch(const EvalOptions& o) {
+  proxseg::SegmentParams params = proxseg::preset(o.preset);
+  if (!o.config.empty()) params = proxseg::read_params(o.config, params);
+  if (o.threads) params.threads = *o.threads;
+  proxseg::validate(params);
+  const auto files = scene_files(o.batch);
+  const std::string method = o.pred_dir.empty() ? "proxseg " + o.preset : "predictions";
+  std::vector<proxseg::SceneScores> scenes;
+  Progress progress(files.size());
+  std::size_t unlabelled = 0;
+  for (const auto& file : files) {
+    const proxseg::Frame truth = proxseg::read_pcd(file.string());
+    if (truth.label.empty()) {
+      ++unlabelled;
+      progress.step(file.filename().string() + " (no label field, skipped)");
+      continue;
+    }
+    std::vector<std::uint32_t> predicted;
+    double seconds = 0;
+    if (o.pred_dir.empty()) {
+      const auto start = std::chrono::steady_clock::now();
+      predicted = proxseg::segment(truth, params).selection.instance;
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    } else {
+      predicted = read_prediction((std::filesystem::path(o.pred_dir) / file.filename()).string(),
+                                  o.field, truth.size());
+    }
+    proxseg::SceneScores s = proxseg::score_scene(truth, predicted);
+    s.scene = file.filename().string();
+    s.category = proxseg::scene_category(s.scene);
+    s.method = method;
+    s.seconds = seconds;
+    scenes.push_back(s);
+    progress.step(s.scene);
+  }
+  if (scenes.empty()) throw InputError(o.batch + ": no scene has a label field");
+  const auto rows = proxseg::summarize(scenes);
+  nlohmann::json summary = {{"folder", o.batch},
+                            {"method", method},
+                            {"scenes", scenes.size()},
+                            {"skipped_unlabelled", unlabelled},
+                            {"summary", proxseg::summary_json(rows)}};
+  if (o.pred_dir.empty()) summary["parameters"] = proxseg::to_json(params);
+  const std::string markdown = proxseg::summary_markdown(rows);
+  if (!o.output.empty()) {
+    make_parent((std::filesystem::path(o.output) / "x").string());
+    const auto out = std::filesystem::path(o.output);
+    proxseg::write_file_atomic((out / "scenes.csv").string(), proxseg::scenes_csv(scenes));
+    proxseg::write_file_atomic((out / "summary.md").string(), markdown);
+    proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
+    std::cerr << "proxseg: wrote " << (out / "scenes.csv").string() << ", summary.md, summary.json\n";
+  }
+  if (o.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << markdown;
+  return 0;
+}
+
+int run_eval(const EvalOptions& o) {
+  if (!o.batch.empty()) {
+    if (!o.truth.empty() || !o.predicted.empty())
+      throw CLI::ValidationError("--batch takes a folder instead of TRUTH and PREDICTED");
+    return run_eval_batch(o);
+  }
+  if (o.truth.empty() || o.predicted.empty())
+    throw CLI::ValidationError("give TRUTH and PREDICTED, or --batch DIR");
+  if (!o.pred_dir.empty() || !o.output.empty() || !o.config.empty())
+    throw CLI::ValidationError("--pred-dir, --output and --config go with --batch");
+  const proxseg::Frame truth = proxseg::read_pcd(o.truth);
+  if (truth.label.empty())
+    throw InputError(o.truth + ": has no label field (expected ground-truth labels)");
+  const auto predicted = read_prediction(o.predicted, o.field, truth.size());
+  proxseg::SceneScores s = proxseg::score_scene(truth, predicted);
+  if (o.json) {
+    std::cout << nlohmann::json{{"truth", o.truth},
+                                {"predicted", o.predicted},
+                                {"objects", proxseg::scores_json(s.objects)},
+                                {"parts", proxseg::scores_json(s.parts)}}
+                     .dump(2)
+              << "\n";
+  } else {
+    print_scores(s);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -156,6 +373,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   SegmentOptions segment;
   add_segment(app, segment);
+  EvalOptions eval;
+  add_eval(app, eval);
   SynthOptions synth;
   auto* synth_cmd = app.add_subcommand(
       "synth", "Write the built-in synthetic tabletop scene (with ground truth)");
@@ -166,6 +385,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     if (app.got_subcommand("segment")) return run_segment(segment);
     if (app.got_subcommand("synth")) return run_synth(synth);
+    if (app.got_subcommand("eval-seg")) return run_eval(eval);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (code 0) or the usage error
     return code == 0 ? 0 : 2;

@@ -323,7 +323,8 @@ struct FieldData {
   const unsigned char* at(std::size_t i) const { return base + i * stride; }
 };
 
-Frame read_pcd_data(const std::string& path, const std::string& text) {
+Frame read_pcd_data(const std::string& path, const std::string& text,
+                    const std::string& label_field) {
   const PcdHeader h = parse_pcd_header(path, text);
 
   const PcdField* fx = find_field(path, h, "x");
@@ -338,9 +339,10 @@ Frame read_pcd_data(const std::string& path, const std::string& text) {
   if (!fc) fail(path, "has no colour field (expected an rgb or rgba field)");
   if (fc->size != 4 || fc->count != 1)
     fail(path, "field " + fc->name + " is not 4 bytes (expected SIZE 4, COUNT 1: packed colour)");
-  const PcdField* fl = find_field(path, h, "label");
+  const PcdField* fl = find_field(path, h, label_field.c_str());
   if (fl && (fl->type == 'F' || fl->size > 4 || fl->count != 1))
-    fail(path, "field label is not an integer (expected TYPE U or I, SIZE 1, 2 or 4, COUNT 1)");
+    fail(path, "field " + label_field +
+                   " is not an integer (expected TYPE U or I, SIZE 1, 2 or 4, COUNT 1)");
 
   const std::size_t n = static_cast<std::size_t>(h.points);
   Frame frame;
@@ -605,8 +607,8 @@ void check_ply_header(const std::string& path) {
 
 }  // namespace
 
-Frame read_pcd(const std::string& path) {
-  return read_pcd_data(path, read_whole_file(path));
+Frame read_pcd(const std::string& path, const std::string& label_field) {
+  return read_pcd_data(path, read_whole_file(path), label_field);
 }
 
 Frame read_ply(const std::string& path) {

@@ -133,17 +133,40 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   for (const auto& [label, points] : sizes)
     labels.push_back({{"label", label}, {"points", points}});
   j["labels"] = labels;
+  const Selection& sel = r.selection;
+  nlohmann::json candidates = nlohmann::json::array();
+  int objects = 0;
+  for (const Candidate& c : sel.components) {
+    objects += !c.background;
+    auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+    std::vector<std::vector<double>> axes;
+    for (int a = 0; a < 3; ++a) axes.push_back(vec(c.box.axes.col(a)));
+    candidates.push_back({{"id", c.instance},
+                          {"label", c.label},
+                          {"points", c.points.size()},
+                          {"centroid", vec(c.centroid)},
+                          {"box", {{"centre", vec(c.box.centre)},
+                                   {"axes", axes},
+                                   {"extent", vec(c.box.extent)}}},
+                          {"background", c.background}});
+  }
+  j["selection"] = {{"clusters", sel.clusters},
+                    {"weak_points", sel.weak_points},
+                    {"instances", sel.components.size()},
+                    {"candidates", objects}};
+  j["candidates"] = candidates;
   return j;
 }
 
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result) {
   // Everything is produced in memory first so that a failure leaves no partial set of files.
-  const std::string png = label_image_png(frame, result.point_labels);
+  const std::string png = label_image_png(frame, result.selection.instance);
   nlohmann::json report = segmentation_report(frame, params, result);
   std::vector<std::string> written;
   try {
-    write_pcd(prefix + ".pcd", frame, {{"label", result.point_labels}});
+    write_pcd(prefix + ".pcd", frame,
+              {{"label", result.point_labels}, {"instance", result.selection.instance}});
     written.push_back(prefix + ".pcd");
     write_file_atomic(prefix + ".png", png);
     written.push_back(prefix + ".png");
@@ -154,6 +177,35 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
     throw;
   }
   return report;
+}
+
+std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
+                                          const SegmentResult& result) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create candidates directory (" + ec.message() + ")");
+  std::vector<std::string> written;
+  try {
+    for (const Candidate& c : result.selection.components) {
+      if (c.background) continue;
+      Frame cloud;
+      cloud.width = static_cast<int>(c.points.size());
+      cloud.height = 1;
+      for (int p : c.points) {
+        cloud.xyz.push_back(frame.xyz[p]);
+        cloud.rgb.push_back(frame.rgb[p]);
+      }
+      const std::string path =
+          (std::filesystem::path(dir) / ("candidate_" + std::to_string(c.instance) + ".pcd"))
+              .string();
+      write_pcd(path, cloud, {});
+      written.push_back(path);
+    }
+  } catch (...) {
+    for (const auto& f : written) std::filesystem::remove(f, ec);
+    throw;
+  }
+  return written;
 }
 
 }  // namespace proxseg

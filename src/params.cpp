@@ -44,6 +44,13 @@ void fields(P& p, F&& f) {
   f("mrf", "pairwise_weight", p.mrf.pairwise_weight);
   f("mrf", "method", p.mrf.method);
   f("mrf", "max_cycles", p.mrf.max_cycles);
+  f("selection", "density_radius", p.selection.density_radius);
+  f("selection", "weak_density_ratio", p.selection.weak_density_ratio);
+  f("selection", "cluster_tolerance", p.selection.cluster_tolerance);
+  f("selection", "min_candidate_points", p.selection.min_candidate_points);
+  f("selection", "background_min_area", p.selection.background_min_area);
+  f("selection", "background_plane_distance", p.selection.background_plane_distance);
+  f("selection", "background_inlier_ratio", p.selection.background_inlier_ratio);
   f("", "threads", p.threads);
 }
 
@@ -131,6 +138,21 @@ SegmentParams read_params(const std::string& path, SegmentParams base) {
   }
 }
 
+SegmentParams preset(const std::string& name) {
+  SegmentParams p;
+  if (name == "default") return p;
+  if (name == "paper") {
+    // Section 3.1-3.2 and the GCO call of section 3.2.
+    p.voxels.voxel_size = 0.02;
+    p.clustering.alpha = 0.85;
+    p.mrf.unary_weight = 1.0;
+    p.mrf.pairwise_weight = 0.275;
+    p.mrf.method = MrfMethod::kSwap;
+    return p;
+  }
+  throw InputError("preset: expected \"default\" or \"paper\", got \"" + name + "\"");
+}
+
 void validate(const SegmentParams& p) {
   auto require = [](bool ok, const char* field, const char* expected) {
     if (!ok) throw InputError(std::string("field ") + field + ": expected " + expected);
@@ -165,6 +187,20 @@ void validate(const SegmentParams& p) {
   require(finite(p.mrf.pairwise_weight) && p.mrf.pairwise_weight >= 0, "mrf.pairwise_weight",
           ">= 0");
   require(p.mrf.max_cycles >= 1, "mrf.max_cycles", ">= 1");
+  const SelectionParams& sp = p.selection;
+  require(finite(sp.density_radius) && sp.density_radius > 0, "selection.density_radius",
+          "a positive radius in metres");
+  require(finite(sp.weak_density_ratio) && sp.weak_density_ratio >= 0 && sp.weak_density_ratio <= 1,
+          "selection.weak_density_ratio", "in [0, 1]");
+  require(finite(sp.cluster_tolerance) && sp.cluster_tolerance > 0, "selection.cluster_tolerance",
+          "a positive distance in metres");
+  require(sp.min_candidate_points >= 1, "selection.min_candidate_points", ">= 1");
+  require(finite(sp.background_min_area) && sp.background_min_area >= 0,
+          "selection.background_min_area", ">= 0 square metres");
+  require(finite(sp.background_plane_distance) && sp.background_plane_distance >= 0,
+          "selection.background_plane_distance", ">= 0 metres");
+  require(sp.background_inlier_ratio >= 0 && sp.background_inlier_ratio <= 1,
+          "selection.background_inlier_ratio", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }
 

@@ -1,4 +1,4 @@
-// segment(): the paper's sections 3.1-3.2, top to bottom.
+// segment(): the paper's sections 3.1-3.3, top to bottom.
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 
@@ -111,7 +111,14 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
 
   // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
   r.point_labels = label_points(frame, r.voxels, r.clustered, r.labels);
+  r.point_labels_kmeans = params.mrf.enabled
+                              ? label_points(frame, r.voxels, r.clustered, r.labels_kmeans)
+                              : r.point_labels;
   r.times_ms.emplace_back("point_labels", watch.lap());
+
+  // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size.
+  r.selection = select_candidates(frame, r.voxels, r.point_labels, params.selection);
+  r.times_ms.emplace_back("selection", watch.lap());
   return r;
 }
 

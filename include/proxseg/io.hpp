@@ -15,8 +15,9 @@ struct Intrinsics {
 };
 
 // PCD with fields x y z and rgb or rgba (any order, extra fields ignored); an optional
-// integer `label` field is kept as ground truth. WIDTH/HEIGHT come from the header.
-Frame read_pcd(const std::string& path);
+// integer `label` field (or the field named label_field, e.g. "instance") is kept in
+// Frame::label. WIDTH/HEIGHT come from the header.
+Frame read_pcd(const std::string& path, const std::string& label_field = "label");
 // PLY point cloud or mesh vertices with colours (unorganized: height 1).
 Frame read_ply(const std::string& path);
 // Dispatches on the extension (.pcd, .ply).

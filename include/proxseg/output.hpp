@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace proxseg {
 
@@ -17,5 +18,10 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
 // report written to PREFIX.json.
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result);
+
+// Writes one unorganized PCD (x y z rgb) per candidate object (not the background) to
+// DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the paths written.
+std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
+                                          const SegmentResult& result);
 
 }  // namespace proxseg

@@ -11,6 +11,11 @@ nlohmann::json to_json(const SegmentParams& params);
 SegmentParams params_from_json(const nlohmann::json& j, SegmentParams base = {});
 // Reads a JSON config file (InputError naming file and field on failure).
 SegmentParams read_params(const std::string& path, SegmentParams base = {});
+// Named parameter sets: "default" (the best measured settings, docs/results.md) and "paper"
+// (exactly the settings the paper gives: w_c = 0.275, alpha-beta swap, 2 cm voxels, alpha = 0.85;
+// everything the paper leaves open keeps its default). Throws InputError for an unknown name.
+SegmentParams preset(const std::string& name);
+
 // Checks ranges (voxel size > 0, weights >= 0, ...); throws InputError naming the field.
 void validate(const SegmentParams& params);
 

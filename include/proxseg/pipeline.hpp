@@ -1,9 +1,10 @@
-// segment(): voxels -> features -> Algorithm 1 -> k-means -> MRF, per paper sections 3.1-3.2.
+// segment(): voxels -> features -> Algorithm 1 -> k-means -> MRF -> selection (paper 3.1-3.3).
 #pragma once
 #include <proxseg/clustering.hpp>
 #include <proxseg/features.hpp>
 #include <proxseg/frame.hpp>
 #include <proxseg/mrf.hpp>
+#include <proxseg/selection.hpp>
 #include <proxseg/voxels.hpp>
 
 #include <string>
@@ -19,6 +20,7 @@ struct SegmentParams {
   ClusteringParams clustering;
   KMeansParams kmeans;
   MrfParams mrf;
+  SelectionParams selection;
   int threads = 0;  // 0 = all cores; results do not depend on it
 };
 
@@ -34,6 +36,8 @@ struct SegmentResult {
   double energy_before = 0, energy_after = 0;
   int kmeans_iterations = 0, mrf_cycles = 0;
   std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k
+  std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
+  Selection selection;                                   // clusters -> candidates [3.3]
   std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
   int k() const { return static_cast<int>(centroids.rows()); }
 };

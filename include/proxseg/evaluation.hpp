@@ -1,0 +1,51 @@
+// Evaluation of segmentations on labelled scenes [paper 4]: per-scene scores under the mOSD
+// "objects" and "parts" schemes, and summaries per method and category (CSV, Markdown, JSON).
+// The metrics themselves are in metrics.hpp; their definitions in docs/metrics.md.
+#pragma once
+#include <proxseg/frame.hpp>
+#include <proxseg/metrics.hpp>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// The evaluated truth of a labelled frame: 0 where the position is not finite or the label is 0,
+// else the mOSD object (table -> 1, label / 10 for objects) or part (table -> 1, label).
+std::vector<std::uint32_t> truth_objects(const Frame& frame);
+std::vector<std::uint32_t> truth_parts(const Frame& frame);
+// The truth id of the supporting background in both schemes.
+inline const std::vector<std::uint32_t> kMosdBackground = {1};
+
+struct SceneScores {
+  std::string scene;     // file name without directory
+  std::string category;  // see scene_category
+  std::string method;    // e.g. "proxseg default", "lccp"
+  double seconds = 0;    // wall time of the method on this scene (0 if not timed)
+  SegmentationScores objects, parts;
+};
+
+// Scores a predicted per-point labelling against the frame's truth (sizes must match).
+SceneScores score_scene(const Frame& truth, const std::vector<std::uint32_t>& predicted);
+
+// The category of an mOSD learn scene from its name ("learn17.pcd" -> "stacked"): 0-16 boxes,
+// 17-24 stacked, 25-32 occluded, 33-44 cylindric; any other name -> "other".
+std::string scene_category(const std::string& scene_name);
+
+// Means over scenes of every score, per method and category, plus an "all" category.
+struct SummaryRow {
+  std::string method, category;
+  int scenes = 0;
+  double seconds = 0;
+  SegmentationScores objects, parts;  // means (counts are means too, rounded in output)
+  double over_segmented = 0, under_segmented = 0, truth_objects = 0;  // mean counts, objects
+};
+std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes);
+
+std::string scenes_csv(const std::vector<SceneScores>& scenes);
+std::string summary_markdown(const std::vector<SummaryRow>& rows);
+nlohmann::json summary_json(const std::vector<SummaryRow>& rows);
+nlohmann::json scores_json(const SegmentationScores& s);
+
+}  // namespace proxseg

@@ -1,0 +1,62 @@
+// Selection [paper 3.3]: labelled voxels -> clusters -> candidate objects.
+#pragma once
+#include <proxseg/frame.hpp>
+#include <proxseg/voxels.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace proxseg {
+
+struct SelectionParams {
+  // Weak connections [3.3]: a point is weak when the number of cluster points within
+  // density_radius is under weak_density_ratio times the cluster's median. On organized frames the
+  // count is scaled by the squared range first, since a sensor's sampling density falls as 1/z^2.
+  double density_radius = 0.005;  // metres
+  double weak_density_ratio = 0.25;
+  // Euclidean clustering of the remaining points [3.3]: points closer than this are connected.
+  double cluster_tolerance = 0.01;  // metres
+  int min_candidate_points = 500;   // smaller components are not candidates (instance 0)
+  // Background: a large planar component that supports the objects (table, floor, wall) is
+  // reported, with its own instance id, but is not a candidate.
+  double background_min_area = 0.06;       // m^2, product of the two largest extents
+  double background_plane_distance = 0.015;  // metres from the component's best plane
+  double background_inlier_ratio = 0.85;     // share of points within that distance
+};
+
+// An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
+// the side lengths along them.
+struct OrientedBox {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
+};
+
+struct Candidate {
+  std::uint32_t instance = 0;  // id in the per-point instance field, 1..n
+  std::uint32_t label = 0;     // the segmentation label the component came from
+  std::vector<int> points;     // point indices, ascending
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  OrientedBox box;
+  bool background = false;  // a supporting plane, not a candidate object
+};
+
+struct Selection {
+  std::vector<std::uint32_t> instance;  // per point: 0 = invalid or unassigned, else 1..n
+  std::vector<Candidate> components;    // instance i is components[i - 1]
+  int clusters = 0;                     // connected same-label voxel sets before splitting
+  std::size_t weak_points = 0;          // points set aside as weak connections
+};
+
+// point_labels: per point, 0 = invalid, else the segmentation label (every point of a voxel has
+// its voxel's label). Instances are numbered by their smallest point index, so the numbering does
+// not depend on threads.
+Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
+                            const std::vector<std::uint32_t>& point_labels,
+                            const SelectionParams& params);
+
+// The oriented bounding box of a set of points (principal axes).
+OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points);
+
+}  // namespace proxseg

@@ -1,0 +1,387 @@
+// Selection [paper 3.3]: clusters are connected sets of same-label voxels; each is split at weak
+// (low-density) connections by Euclidean clustering of its dense points; the large components
+// become candidates, large supporting planes background.
+#include <proxseg/selection.hpp>
+
+#include <open3d/geometry/KDTreeFlann.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numeric>
+#include <unordered_map>
+
+namespace proxseg {
+namespace {
+
+// Points grouped by (cluster, cell): a sorted index with a hash from cell to its range, so that
+// neighbourhood queries touch only nearby cells and never iterate a hash map (determinism).
+struct CellKey {
+  int group, x, y, z;
+  bool operator==(const CellKey& o) const {
+    return group == o.group && x == o.x && y == o.y && z == o.z;
+  }
+  bool operator<(const CellKey& o) const {
+    return std::tie(group, z, y, x) < std::tie(o.group, o.z, o.y, o.x);
+  }
+};
+// Open addressing with linear probing: most neighbourhood queries miss, and a miss here costs one
+// or two probes of a flat array (std::unordered_map made the selection three times slower).
+class CellMap {
+ public:
+  explicit CellMap(std::size_t n = 0) {
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    mask_ = size - 1;
+    keys_.resize(size);
+    values_.assign(size, -1);
+  }
+  void insert(const CellKey& k, int value) {
+    std::size_t i = hash(k) & mask_;
+    while (values_[i] >= 0) i = (i + 1) & mask_;
+    keys_[i] = k;
+    values_[i] = value;
+  }
+  int find(const CellKey& k) const {
+    for (std::size_t i = hash(k) & mask_;; i = (i + 1) & mask_) {
+      if (values_[i] < 0) return -1;
+      if (keys_[i] == k) return values_[i];
+    }
+  }
+
+ private:
+  static std::size_t hash(const CellKey& k) {
+    std::uint64_t h = static_cast<std::uint32_t>(k.group) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint32_t>(k.x) * 0xBF58476D1CE4E5B9ull;
+    h ^= static_cast<std::uint32_t>(k.y) * 0x94D049BB133111EBull;
+    h ^= static_cast<std::uint32_t>(k.z) * 0xD6E8FEB86659FD93ull;
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+  std::size_t mask_;
+  std::vector<CellKey> keys_;
+  std::vector<int> values_;
+};
+
+class CellIndex {
+ public:
+  CellIndex(const Frame& frame, const std::vector<int>& points, const std::vector<int>& group,
+            double cell)
+      : frame_(frame), inv_(1.0 / cell) {
+    std::vector<std::pair<CellKey, int>> keyed;
+    keyed.reserve(points.size());
+    for (int p : points) keyed.emplace_back(key(p, group[p]), p);
+    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+      return a.first < b.first || (a.first == b.first && a.second < b.second);
+    });
+    order_.reserve(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+      if (i == 0 || !(keyed[i].first == keyed[i - 1].first)) {
+        cells_.push_back(keyed[i].first);
+        begin_.push_back(static_cast<int>(i));
+      }
+      order_.push_back(keyed[i].second);
+    }
+    begin_.push_back(static_cast<int>(keyed.size()));
+    lookup_ = CellMap(cells_.size());
+    for (std::size_t c = 0; c < cells_.size(); ++c) lookup_.insert(cells_[c], static_cast<int>(c));
+  }
+
+  // Cell coordinates are clamped to the int range: points that far out are garbage anyway, and
+  // clamping keeps the arithmetic defined.
+  CellKey key(int p, int group) const {
+    const Eigen::Vector3f& q = frame_.xyz[p];
+    auto cell = [this](float v) {
+      return static_cast<int>(std::clamp(std::floor(v * inv_), -1e9, 1e9));
+    };
+    return {group, cell(q.x()), cell(q.y()), cell(q.z())};
+  }
+  std::size_t cells() const { return cells_.size(); }
+  const CellKey& cell(std::size_t c) const { return cells_[c]; }
+  // Index of the cell at key, or -1.
+  int find(const CellKey& k) const { return lookup_.find(k); }
+  // Points of cell c: order()[begin(c) .. end(c)).
+  int begin(std::size_t c) const { return begin_[c]; }
+  int end(std::size_t c) const { return begin_[c + 1]; }
+  const std::vector<int>& order() const { return order_; }
+
+ private:
+  const Frame& frame_;
+  double inv_;
+  std::vector<CellKey> cells_;
+  std::vector<int> begin_, order_;
+  CellMap lookup_;
+};
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  // The smaller root wins, so the result does not depend on the order of unions.
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Clusters [3.3]: connected components of same-label voxels over the 26-neighbourhood.
+std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::uint32_t>& labels,
+                                int& count) {
+  std::vector<std::uint32_t> voxel_label(grid.size(), 0);
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (!grid.points[v].empty()) voxel_label[v] = labels[grid.points[v][0]];
+  std::vector<int> cluster(grid.size(), -1);
+  count = 0;
+  std::deque<int> queue;
+  for (std::size_t seed = 0; seed < grid.size(); ++seed) {
+    if (cluster[seed] >= 0 || voxel_label[seed] == 0) continue;
+    cluster[seed] = count;
+    queue.push_back(static_cast<int>(seed));
+    while (!queue.empty()) {
+      const int v = queue.front();
+      queue.pop_front();
+      for (int n : grid.neighbours[v])
+        if (cluster[n] < 0 && voxel_label[n] == voxel_label[v]) {
+          cluster[n] = count;
+          queue.push_back(n);
+        }
+    }
+    ++count;
+  }
+  return cluster;
+}
+
+// Per point, the number of points of its own cluster within radius (itself included), scaled by
+// the squared range on organized frames.
+std::vector<float> point_density(const Frame& frame, const std::vector<int>& points,
+                                 const std::vector<int>& group, double radius) {
+  const CellIndex index(frame, points, group, radius);
+  const float r2 = static_cast<float>(radius * radius);
+  std::vector<float> density(frame.size(), 0.0f);
+  const std::vector<int>& order = index.order();
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int c = 0; c < static_cast<int>(index.cells()); ++c) {
+    const CellKey k = index.cell(c);
+    std::vector<int> near;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int n = index.find({k.group, k.x + dx, k.y + dy, k.z + dz});
+          if (n >= 0) near.push_back(n);
+        }
+    for (int i = index.begin(c); i < index.end(c); ++i) {
+      const int p = order[i];
+      int count = 0;
+      for (int n : near)
+        for (int j = index.begin(n); j < index.end(n); ++j)
+          count += (frame.xyz[order[j]] - frame.xyz[p]).squaredNorm() <= r2;
+      density[p] = static_cast<float>(count) * (frame.organized() ? frame.xyz[p].squaredNorm() : 1);
+    }
+  }
+  return density;
+}
+
+// Euclidean clustering with tolerance t, exact: cells of side t / sqrt(3) hold points that are all
+// within t of each other, so components are found between cells, with an early exit per pair.
+// Returns, per point of `points`, a component id (the smallest cell index of the component).
+std::vector<int> euclidean_components(const Frame& frame, const std::vector<int>& points,
+                                      const std::vector<int>& group, double tolerance) {
+  const double side = tolerance / std::sqrt(3.0) * (1 - 1e-9);
+  const CellIndex index(frame, points, group, side);
+  const float t2 = static_cast<float>(tolerance * tolerance);
+  const std::vector<int>& order = index.order();
+  const int reach = static_cast<int>(std::ceil(tolerance / side));
+  // Links between cells are found in parallel, then merged serially: the components do not
+  // depend on the order of the unions (the smaller root wins).
+  std::vector<std::vector<int>> links(index.cells());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int c = 0; c < static_cast<int>(index.cells()); ++c) {
+    const CellKey k = index.cell(c);
+    for (int dz = -reach; dz <= reach; ++dz)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const int n = index.find({k.group, k.x + dx, k.y + dy, k.z + dz});
+          if (n <= c) continue;
+          bool linked = false;
+          for (int i = index.begin(c); i < index.end(c) && !linked; ++i)
+            for (int j = index.begin(n); j < index.end(n) && !linked; ++j)
+              linked = (frame.xyz[order[i]] - frame.xyz[order[j]]).squaredNorm() <= t2;
+          if (linked) links[c].push_back(n);
+        }
+  }
+  UnionFind sets(index.cells());
+  for (std::size_t c = 0; c < index.cells(); ++c)
+    for (int n : links[c]) sets.unite(static_cast<int>(c), n);
+  std::vector<int> component(frame.size(), -1);
+  for (std::size_t c = 0; c < index.cells(); ++c)
+    for (int i = index.begin(c); i < index.end(c); ++i) component[order[i]] = sets.find(c);
+  return component;
+}
+
+bool is_background(const Frame& frame, const Candidate& c, const SelectionParams& params) {
+  const Eigen::Vector3d& e = c.box.extent;
+  if (e[0] * e[1] < params.background_min_area) return false;
+  const Eigen::Vector3d normal = c.box.axes.col(2);
+  std::size_t inliers = 0;
+  for (int p : c.points)
+    inliers += std::abs(normal.dot(frame.xyz[p].cast<double>() - c.centroid)) <=
+               params.background_plane_distance;
+  return inliers >= params.background_inlier_ratio * c.points.size();
+}
+
+}  // namespace
+
+OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points) {
+  OrientedBox box;
+  if (points.empty()) return box;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int p : points) mean += frame.xyz[p].cast<double>();
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int p : points) {
+    const Eigen::Vector3d d = frame.xyz[p].cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  // Largest variance first; each axis signed so its largest component is positive, the third
+  // completing a right-handed frame, so the box does not flip between runs.
+  Eigen::Matrix3d axes;
+  for (int i = 0; i < 2; ++i) {
+    Eigen::Vector3d a = eig.eigenvectors().col(2 - i);
+    Eigen::Index m;
+    a.cwiseAbs().maxCoeff(&m);
+    axes.col(i) = a[m] < 0 ? Eigen::Vector3d(-a) : a;
+  }
+  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (int p : points) {
+    const Eigen::Vector3d q = axes.transpose() * (frame.xyz[p].cast<double>() - mean);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  box.axes = axes;
+  box.extent = hi - lo;
+  box.centre = mean + axes * ((lo + hi) / 2);
+  return box;
+}
+
+Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
+                            const std::vector<std::uint32_t>& point_labels,
+                            const SelectionParams& params) {
+  Selection s;
+  s.instance.assign(frame.size(), 0);
+
+  // 1. Clusters: connected same-label voxels; every labelled point joins its voxel's cluster.
+  const std::vector<int> voxel_cluster = voxel_clusters(grid, point_labels, s.clusters);
+  std::vector<int> cluster(frame.size(), -1);
+  std::vector<int> labelled;
+  for (std::size_t p = 0; p < frame.size(); ++p) {
+    const int v = grid.voxel_of_point[p];
+    if (v >= 0 && point_labels[p] && voxel_cluster[v] >= 0) {
+      cluster[p] = voxel_cluster[v];
+      labelled.push_back(static_cast<int>(p));
+    }
+  }
+
+  // 2. Weak connections: points whose density is far under their cluster's median.
+  const std::vector<float> density =
+      point_density(frame, labelled, cluster, params.density_radius);
+  std::vector<std::vector<float>> per_cluster(s.clusters);
+  for (int p : labelled) per_cluster[cluster[p]].push_back(density[p]);
+  std::vector<float> threshold(s.clusters, 0.0f);
+  for (int c = 0; c < s.clusters; ++c) {
+    auto& d = per_cluster[c];
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    threshold[c] = static_cast<float>(params.weak_density_ratio) * d[d.size() / 2];
+  }
+  std::vector<int> dense, weak;
+  std::vector<char> cluster_has_dense(s.clusters, 0);
+  for (int p : labelled) {
+    if (density[p] >= threshold[cluster[p]]) {
+      dense.push_back(p);
+      cluster_has_dense[cluster[p]] = 1;
+    } else {
+      weak.push_back(p);
+    }
+  }
+  // A cluster that is weak everywhere is kept whole.
+  std::vector<int> set_aside;
+  std::vector<char> is_weak(frame.size(), 0);
+  for (int p : weak) {
+    (cluster_has_dense[cluster[p]] ? set_aside : dense).push_back(p);
+    is_weak[p] = cluster_has_dense[cluster[p]];
+  }
+  std::sort(dense.begin(), dense.end());
+  s.weak_points = set_aside.size();
+
+  // 3. Euclidean clustering of the dense points within each cluster.
+  std::vector<int> component = euclidean_components(frame, dense, cluster, params.cluster_tolerance);
+
+  // 4. Set-aside points go back to the component of the nearest dense point of their cluster,
+  // looked up in their own and neighbouring voxels; a kd-tree of the cluster is the fallback.
+  std::vector<int> orphans;
+  for (int p : set_aside) {
+    const int v = grid.voxel_of_point[p];
+    float best = INFINITY;
+    int nearest = -1;
+    auto scan = [&](int voxel) {
+      for (int q : grid.points[voxel]) {
+        if (cluster[q] != cluster[p] || component[q] < 0 || is_weak[q]) continue;
+        const float d = (frame.xyz[q] - frame.xyz[p]).squaredNorm();
+        if (d < best) best = d, nearest = q;
+      }
+    };
+    scan(v);
+    for (int n : grid.neighbours[v]) scan(n);
+    if (nearest >= 0)
+      component[p] = component[nearest];
+    else
+      orphans.push_back(p);
+  }
+  if (!orphans.empty()) {
+    std::vector<std::vector<int>> dense_of(s.clusters), orphans_of(s.clusters);
+    for (int p : dense) dense_of[cluster[p]].push_back(p);
+    for (int p : orphans) orphans_of[cluster[p]].push_back(p);
+    for (int c = 0; c < s.clusters; ++c) {
+      if (orphans_of[c].empty()) continue;
+      Eigen::MatrixXd xyz(3, dense_of[c].size());
+      for (std::size_t i = 0; i < dense_of[c].size(); ++i)
+        xyz.col(i) = frame.xyz[dense_of[c][i]].cast<double>();
+      const open3d::geometry::KDTreeFlann tree(xyz);
+      std::vector<int> nearest(1);
+      std::vector<double> dist2(1);
+      for (int p : orphans_of[c])
+        if (tree.SearchKNN(Eigen::Vector3d(frame.xyz[p].cast<double>()), 1, nearest, dist2) == 1)
+          component[p] = component[dense_of[c][nearest[0]]];
+    }
+  }
+
+  // 5. Components in order of their smallest point index; large ones become instances.
+  std::unordered_map<int, int> slot;
+  std::vector<std::vector<int>> members;
+  for (std::size_t p = 0; p < frame.size(); ++p) {
+    if (component[p] < 0) continue;
+    const auto [it, added] = slot.emplace(component[p], static_cast<int>(members.size()));
+    if (added) members.emplace_back();
+    members[it->second].push_back(static_cast<int>(p));
+  }
+  for (auto& m : members) {
+    if (static_cast<int>(m.size()) < params.min_candidate_points) continue;
+    Candidate c;
+    c.instance = static_cast<std::uint32_t>(s.components.size() + 1);
+    c.label = point_labels[m[0]];
+    c.points = std::move(m);
+    c.box = oriented_box(frame, c.points);
+    for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
+    c.centroid /= static_cast<double>(c.points.size());
+    c.background = is_background(frame, c, params);
+    for (int p : c.points) s.instance[p] = c.instance;
+    s.components.push_back(std::move(c));
+  }
+  return s;
+}
+
+}  // namespace proxseg
