@@ -1,0 +1,571 @@
+// Tests of the segmentation metrics: hand-made labellings whose every score is worked out by hand
+// in the comments, a brute-force check of the matching, and one real mOSD scene.
+#include <proxseg/io.hpp>
+#include <proxseg/metrics.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <map>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using proxseg::SegmentationScores;
+using Labels = std::vector<std::uint32_t>;
+
+namespace {
+
+constexpr double kTol = 1e-9;
+constexpr std::uint32_t kMax = 4294967295u;
+
+// Entropy in nats of a distribution given by its probabilities.
+double H(std::initializer_list<double> p) {
+  double h = 0;
+  for (const double x : p) h -= x * std::log(x);
+  return h;
+}
+
+// Scores with background {1}; checks on the way that the V-measure field is v_measure's value.
+SegmentationScores score(const Labels& truth, const Labels& predicted,
+                         const Labels& background = {1}) {
+  const SegmentationScores s = proxseg::score_segmentation(truth, predicted, background);
+  const proxseg::VMeasure v = proxseg::v_measure(truth, predicted);
+  EXPECT_EQ(s.v.homogeneity, v.homogeneity);
+  EXPECT_EQ(s.v.completeness, v.completeness);
+  EXPECT_EQ(s.v.v, v.v);
+  return s;
+}
+
+// Compares every field, so that no metric goes untested in any case.
+void expect_scores(const SegmentationScores& got, const SegmentationScores& want) {
+  EXPECT_EQ(got.points, want.points);
+  EXPECT_EQ(got.truth_regions, want.truth_regions);
+  EXPECT_EQ(got.truth_objects, want.truth_objects);
+  EXPECT_EQ(got.segments, want.segments);
+  EXPECT_NEAR(got.paper_precision, want.paper_precision, kTol) << "paper_precision";
+  EXPECT_NEAR(got.paper_recall, want.paper_recall, kTol) << "paper_recall";
+  EXPECT_NEAR(got.v.homogeneity, want.v.homogeneity, kTol) << "homogeneity";
+  EXPECT_NEAR(got.v.completeness, want.v.completeness, kTol) << "completeness";
+  EXPECT_NEAR(got.v.v, want.v.v, kTol) << "v";
+  EXPECT_NEAR(got.weighted_overlap, want.weighted_overlap, kTol) << "weighted_overlap";
+  EXPECT_NEAR(got.object_precision, want.object_precision, kTol) << "object_precision";
+  EXPECT_NEAR(got.object_recall, want.object_recall, kTol) << "object_recall";
+  EXPECT_NEAR(got.object_f, want.object_f, kTol) << "object_f";
+  EXPECT_NEAR(got.detected_075, want.detected_075, kTol) << "detected_075";
+  EXPECT_EQ(got.over_segmented, want.over_segmented);
+  EXPECT_EQ(got.under_segmented, want.under_segmented);
+}
+
+SegmentationScores counts(std::size_t points, int regions, int objects, int segments) {
+  SegmentationScores s;
+  s.points = points;
+  s.truth_regions = regions;
+  s.truth_objects = objects;
+  s.segments = segments;
+  return s;
+}
+
+// 2hc / (h + c), the V-measure of given homogeneity and completeness.
+proxseg::VMeasure vm(double h, double c) {
+  return {h, c, 2 * h * c / (h + c)};
+}
+
+// Background 1 (4 points), objects 2 and 3 (3 points each).
+const Labels kThree = {1, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+
+}  // namespace
+
+TEST(Metrics, PerfectSegmentation) {
+  // Every region is one segment, under other ids: every ratio is 1, nothing over/under-segmented.
+  // Object P/R: segment 7 (all background) is left out; 8 and 9 match 2 and 3 with F = 1.
+  SegmentationScores want = counts(10, 3, 2, 3);
+  want.paper_precision = want.paper_recall = 1;
+  want.v = {1, 1, 1};
+  want.weighted_overlap = 1;
+  want.object_precision = want.object_recall = want.object_f = want.detected_075 = 1;
+  expect_scores(score(kThree, {7, 7, 7, 7, 8, 8, 8, 9, 9, 9}), want);
+  expect_scores(score(kThree, kThree), want);
+}
+
+TEST(Metrics, EverythingOneSegment) {
+  // Segment 5 = all 10 points: 4 background, 3 of object 2, 3 of object 3.
+  // Paper: 5 -> region 1 (4 points, the majority). Region 1: P = 4/10, R = 4/4; regions 2, 3:
+  //   no label, 0 and 0. Macro: P = 0.4 / 3, R = 1 / 3.
+  // V: one cluster -> completeness 1 (convention), H(C|K) = H(C) -> homogeneity 0, V 0.
+  // Weighted overlap: IoU(2, 5) = IoU(3, 5) = 3/10 -> (3 * 0.3 + 3 * 0.3) / 6 = 0.3.
+  // Object: 5 has 4/10 on the background (not more than half): kept, |S| = 10.
+  //   F(2,5) = F(3,5) = 6/13; one segment -> one pair, |S∩G| = 3. P = 3/10, R = 3/6,
+  //   F = 2 * 0.3 * 0.5 / 0.8 = 0.375; F(S,G) = 6/13 < 0.75 -> detected 0.
+  // Over: one segment -> 0. Under: both objects' largest segment is 5, with 4/10 >= 10% on
+  //   the background -> 2.
+  SegmentationScores want = counts(10, 3, 2, 1);
+  want.paper_precision = 0.4 / 3;
+  want.paper_recall = 1.0 / 3;
+  want.v = {0, 1, 0};
+  want.weighted_overlap = 0.3;
+  want.object_precision = 0.3;
+  want.object_recall = 0.5;
+  want.object_f = 0.375;
+  want.detected_075 = 0;
+  want.under_segmented = 2;
+  expect_scores(score(kThree, Labels(10, 5)), want);
+}
+
+TEST(Metrics, ObjectSplitInTwoHalves) {
+  // truth: background 1 (4), object 2 (4), object 3 (2); object 2 is split into 6 and 7.
+  // Paper: 5 -> 1, 6 -> 2, 7 -> 2, 8 -> 3; every label is pure and covers its region: P = R = 1.
+  // V: every cluster pure -> homogeneity 1. H(K|C) = 0.4 * ln 2 (class 2 split 2/2),
+  //   H(K) = H(.4, .2, .2, .2) -> completeness c = 1 - 0.4 ln 2 / H(K), V = 2c / (1 + c).
+  // Weighted overlap: IoU(2, 6) = IoU(2, 7) = 2/4, IoU(3, 8) = 1 -> (4 * 0.5 + 2 * 1) / 6 = 2/3.
+  // Object: 5 is all background, left out; kept 6, 7, 8 (6 points). F(2,6) = F(2,7) = 4/6,
+  //   F(3,8) = 1. Matching: 2-6 (or 2-7), 3-8, |S∩G| = 2 + 2 = 4. P = 4/6, R = 4/6, F = 2/3.
+  //   Detected: object 3 (F 1); object 2 (F 2/3 < 0.75) not -> 1/2.
+  // Over: object 2 has 6 and 7 each with 50% -> 1. Under: largest segment of 2 is 6 (tie with 7,
+  //   smaller label), pure; of 3 is 8, pure -> 0.
+  const Labels truth = {1, 1, 1, 1, 2, 2, 2, 2, 3, 3};
+  const Labels pred = {5, 5, 5, 5, 6, 6, 7, 7, 8, 8};
+  SegmentationScores want = counts(10, 3, 2, 4);
+  want.paper_precision = want.paper_recall = 1;
+  const double c = 1 - 0.4 * std::log(2.0) / H({0.4, 0.2, 0.2, 0.2});
+  want.v = vm(1, c);
+  want.weighted_overlap = 4.0 / 6;
+  want.object_precision = want.object_recall = want.object_f = 4.0 / 6;
+  want.detected_075 = 0.5;
+  want.over_segmented = 1;
+  expect_scores(score(truth, pred), want);
+}
+
+TEST(Metrics, TwoObjectsMerged) {
+  // truth: background 1 (4), objects 2 and 3 (3 each); segment 6 = objects 2 and 3.
+  // Paper: 5 -> 1; 6 has 3 on 2 and 3 on 3, tie -> smaller truth label 2. Region 1: P = R = 1;
+  //   region 2: hit 3, claimed 6 -> P = 0.5, R = 1; region 3: 0, 0. P = 1.5/3, R = 2/3.
+  // V: H(C|K) = 0.6 ln 2 (cluster 6 split 3/3), H(C) = H(.4, .3, .3) -> h = 1 - 0.6 ln 2 / H(C);
+  //   every class in one cluster -> completeness 1.
+  // Weighted overlap: IoU(2, 6) = IoU(3, 6) = 3/6 -> 0.5.
+  // Object: kept 6 only (5 is all background), |S| = 6. F(2,6) = F(3,6) = 6/9; one pair,
+  //   |S∩G| = 3: P = 3/6, R = 3/6, F = 0.5; 2/3 < 0.75 -> detected 0.
+  // Over: 0. Under: both objects' largest segment is 6, with 50% on the other object -> 2.
+  SegmentationScores want = counts(10, 3, 2, 2);
+  want.paper_precision = 0.5;
+  want.paper_recall = 2.0 / 3;
+  const double h = 1 - 0.6 * std::log(2.0) / H({0.4, 0.3, 0.3});
+  want.v = vm(h, 1);
+  want.weighted_overlap = 0.5;
+  want.object_precision = want.object_recall = want.object_f = 0.5;
+  want.under_segmented = 2;
+  expect_scores(score(kThree, {5, 5, 5, 5, 6, 6, 6, 6, 6, 6}), want);
+}
+
+namespace {
+
+// Background 1 (6 points), object 2 (4); segment 6 = object 2 and a 2-point background patch.
+const Labels kPatchTruth = {1, 1, 1, 1, 1, 1, 2, 2, 2, 2};
+const Labels kPatchPred = {5, 5, 5, 5, 6, 6, 6, 6, 6, 6};
+
+// Paper: 5 -> 1 (pure, 4 of 6 background points): P = 1, R = 4/6; 6 -> 2 (4 vs 2): P = 4/6,
+//   R = 1. Macro: P = R = (1 + 2/3) / 2 = 5/6.
+// V: H(C|K) = 0.6 H(1/3, 2/3) (cluster 6: 2 + 4), H(K|C) = 0.6 H(2/3, 1/3) (class 1: 4 + 2),
+//   H(C) = H(K) = H(.6, .4) -> h = c = v = 1 - 0.6 H(1/3, 2/3) / H(.6, .4).
+// Weighted overlap: IoU(2, 6) = 4/6.
+// Object: 6 has 2/6 on the background: kept; 5 left out. F(2,6) = 8/10. P = 4/6, R = 4/4,
+//   F = 2 (2/3) / (5/3) = 0.8 >= 0.75 -> detected 1.
+// Over: 0. Under: the largest segment of 2 is 6, 2/6 >= 10% on the background -> 1.
+SegmentationScores patch_scores() {
+  SegmentationScores want = counts(10, 2, 1, 2);
+  want.paper_precision = want.paper_recall = 5.0 / 6;
+  const double x = 1 - 0.6 * H({1.0 / 3, 2.0 / 3}) / H({0.6, 0.4});
+  want.v = {x, x, x};
+  want.weighted_overlap = 4.0 / 6;
+  want.object_precision = 4.0 / 6;
+  want.object_recall = 1;
+  want.object_f = 0.8;
+  want.detected_075 = 1;
+  want.under_segmented = 1;
+  return want;
+}
+
+}  // namespace
+
+TEST(Metrics, ObjectMergedWithBackgroundPatch) {
+  expect_scores(score(kPatchTruth, kPatchPred), patch_scores());
+}
+
+TEST(Metrics, MostlyBackgroundSegmentLeftOutOfObjectScores) {
+  // truth: background 1 (6), object 2 (4). Segment 6 = 2 background + 1 object point (majority
+  // background), segment 7 = 3 object points.
+  // Paper: 5 -> 1, 6 -> 1 (2 vs 1), 7 -> 2. Region 1: hit 4 + 2, claimed 4 + 3 -> P = 6/7,
+  //   R = 6/6; region 2: P = 3/3, R = 3/4. P = (6/7 + 1) / 2 = 13/14, R = (1 + 3/4) / 2 = 7/8.
+  // V: H(C|K) = 0.3 H(2/3, 1/3) (cluster 6), H(C) = H(.6, .4) -> h = 1 - 0.3 H(2/3,1/3) / H(C).
+  //   H(K|C) = 0.6 H(4/6, 2/6) + 0.4 H(1/4, 3/4), H(K) = H(.4, .3, .3) -> c = 1 - H(K|C) / H(K).
+  // Weighted overlap: IoU(2, 6) = 1/6, IoU(2, 7) = 3/4 -> 0.75.
+  // Object: 6 is left out (2 of its 3 points on the background), so only 7 (3 points) counts:
+  //   F(2,7) = 6/7. P = 3/3, R = 3/4, F = 2 * 0.75 / 1.75 = 6/7 >= 0.75 -> detected 1.
+  //   (Were 6 kept, P would be 3/6.)
+  // Over: 6 holds 1/4 >= 10% and 7 holds 3/4 of object 2 -> 1 (background segments count).
+  // Under: the largest segment of 2 is 7, pure -> 0.
+  const Labels pred = {5, 5, 5, 5, 6, 6, 6, 7, 7, 7};
+  SegmentationScores want = counts(10, 2, 1, 3);
+  want.paper_precision = 13.0 / 14;
+  want.paper_recall = 7.0 / 8;
+  const double h = 1 - 0.3 * H({2.0 / 3, 1.0 / 3}) / H({0.6, 0.4});
+  const double c = 1 - (0.6 * H({4.0 / 6, 2.0 / 6}) + 0.4 * H({0.25, 0.75})) / H({0.4, 0.3, 0.3});
+  want.v = vm(h, c);
+  want.weighted_overlap = 0.75;
+  want.object_precision = 1;
+  want.object_recall = 0.75;
+  want.object_f = 6.0 / 7;
+  want.detected_075 = 1;
+  want.over_segmented = 1;
+  expect_scores(score(kPatchTruth, pred), want);
+}
+
+TEST(Metrics, PredictedZeroIsUnassigned) {
+  // truth: background 1 (4), object 2 (4), object 3 (2). One background and one object-2 point
+  // and all of object 3 are predicted 0.
+  // Segments: 5, 6 (0 is no segment) -> 2.
+  // Paper: 0 maps nowhere; 5 -> 1: P = 3/3, R = 3/4; 6 -> 2: P = 3/3, R = 3/4; region 3: 0, 0.
+  //   P = 2/3, R = 1.5/3.
+  // V (0 is one more cluster): clusters 5 (3), 6 (3), 0 (4: one each of 1, 2, two of 3).
+  //   H(C|K) = 0.4 H(.25, .25, .5), H(C) = H(.4, .4, .2) -> h = 1 - H(C|K) / H(C).
+  //   H(K|C) = 0.4 H(.75, .25) * 2 (classes 1, 2; class 3 all in 0), H(K) = H(.3, .3, .4).
+  // Weighted overlap: IoU(2, 6) = 3/4; object 3 meets no segment: 0 -> (4 * 0.75 + 0) / 6 = 0.5.
+  // Object: 5 is all background, left out; kept 6 (3 points). F(2,6) = 6/7. P = 3/3,
+  //   R = 3/(4 + 2) = 0.5, F = 2/3. Detected: object 2 (6/7), not 3 -> 0.5.
+  // Over: 0 (object 2: only 6; 0 is no segment). Under: object 2's largest is 6, pure; object 3
+  //   has no segment -> 0.
+  const Labels truth = {1, 1, 1, 1, 2, 2, 2, 2, 3, 3};
+  const Labels pred = {5, 5, 5, 0, 6, 6, 6, 0, 0, 0};
+  SegmentationScores want = counts(10, 3, 2, 2);
+  want.paper_precision = 2.0 / 3;
+  want.paper_recall = 0.5;
+  const double h = 1 - 0.4 * H({0.25, 0.25, 0.5}) / H({0.4, 0.4, 0.2});
+  const double c = 1 - 0.8 * H({0.75, 0.25}) / H({0.3, 0.3, 0.4});
+  want.v = vm(h, c);
+  want.weighted_overlap = 0.5;
+  want.object_precision = 1;
+  want.object_recall = 0.5;
+  want.object_f = 2.0 / 3;
+  want.detected_075 = 0.5;
+  expect_scores(score(truth, pred), want);
+}
+
+TEST(Metrics, TruthZeroPointsIgnored) {
+  // ObjectMergedWithBackgroundPatch with truth-0 points slipped in: some predicted as its
+  // segments, some 0, and labels 9 and 77 that occur only there (so they are no segments).
+  const Labels truth = {0, 1, 1, 1, 0, 1, 1, 1, 2, 2, 0, 2, 2, 0};
+  const Labels pred = {9, 5, 5, 5, 6, 5, 6, 6, 6, 6, 0, 6, 6, 77};
+  expect_scores(score(truth, pred), patch_scores());
+}
+
+TEST(Metrics, LargeNonContiguousLabelsAndTieBreaks) {
+  // truth: background X = 4294967295 (3), object A = 4000000000 (2), object B = 70000 (4).
+  // pred: X on the background; M = 2147483648 on A's 2 and 2 of B's; 99 on the other 2 of B.
+  // Ids above 2^31 catch signed comparisons in the tie-breaks below.
+  // Paper: X -> X; M has 2 on A and 2 on B, tie -> smaller truth label B (70000); 99 -> B.
+  //   Region X: P = R = 1; A: no label, 0, 0; B: hit 2 + 2, claimed 4 + 2 -> P = 2/3, R = 1.
+  //   P = (1 + 0 + 2/3) / 3 = 5/9, R = 2/3. (A tie to A would give P = R = 2.5/3.)
+  // V: H(C|K) = H(K|C) = (4/9) ln 2 (cluster M split A/B; class B split M/99),
+  //   H(C) = H(K) = H(3/9, 2/9, 4/9) -> h = c = v = 1 - (4/9) ln 2 / H(C).
+  // Weighted overlap: A: IoU(A, M) = 2/4; B: IoU(B, M) = 2/6, IoU(B, 99) = 2/4 ->
+  //   (2 * 0.5 + 4 * 0.5) / 6 = 0.5.
+  // Object: X left out; kept M (4), 99 (2). F(A,M) = 4/6, F(B,M) = 4/8, F(B,99) = 4/6,
+  //   F(A,99) = 0. Best: A-M + B-99 (4/3 > 1/2): |S∩G| = 4. P = 4/6, R = 4/6, F = 2/3,
+  //   detected 0 (2/3 < 0.75).
+  // Over: B has M and 99 at 50% each -> 1. Under: A's largest is M, 2/4 on B -> under; B's
+  //   largest is a tie M/99 -> smaller label 99, pure -> not. 1.
+  const std::uint32_t x = kMax, a = 4000000000u, b = 70000u, m = 2147483648u;
+  const Labels truth = {x, x, x, a, a, b, b, b, b};
+  const Labels pred = {x, x, x, m, m, m, m, 99, 99};
+  SegmentationScores want = counts(9, 3, 2, 3);
+  want.paper_precision = 5.0 / 9;
+  want.paper_recall = 2.0 / 3;
+  const double v = 1 - 4.0 / 9 * std::log(2.0) / H({3.0 / 9, 2.0 / 9, 4.0 / 9});
+  want.v = {v, v, v};
+  want.weighted_overlap = 0.5;
+  want.object_precision = want.object_recall = want.object_f = 2.0 / 3;
+  want.over_segmented = 1;
+  want.under_segmented = 1;
+  expect_scores(score(truth, pred, {x}), want);
+}
+
+TEST(Metrics, HungarianMatchingBeatsGreedy) {
+  // truth: object 2 (10 points), object 3 (4), no background. Segment 5 = 6 of object 2 + all of
+  // object 3; segment 6 = the other 4 of object 2.
+  // F(2,5) = 12/20 = 0.6, F(2,6) = 8/14, F(3,5) = 8/14, F(3,6) = 0.
+  // Greedy (best pair first) takes 2-5 (0.6), leaving 3-6 (0): |S∩G| = 6, P = R = F = 6/14.
+  // Hungarian takes 2-6 + 3-5 (16/14 > 0.6): |S∩G| = 4 + 4 = 8, P = 8/14, R = 8/14, F = 4/7;
+  //   detected 0 (8/14 < 0.75). Both segments are kept (no background).
+  // Paper: 5 -> 2 (6 vs 4), 6 -> 2. Region 2: hit 6 + 4, claimed 10 + 4 -> P = 5/7, R = 1;
+  //   region 3: 0, 0. P = 5/14, R = 1/2.
+  // V: H(C|K) = H(K|C) = (10/14) H(.6, .4), H(C) = H(K) = H(10/14, 4/14) -> h = c = v.
+  // Weighted overlap: IoU(2, 5) = 6/14, IoU(2, 6) = 4/10 -> 3/7; IoU(3, 5) = 4/10 ->
+  //   (10 * 3/7 + 4 * 0.4) / 14 = 103/245.
+  // Over: object 2 has 5 (60%) and 6 (40%) -> 1. Under: 2's largest is 5, 4/10 on 3 -> under;
+  //   3's largest is 5, 6/10 on 2 -> under. 2.
+  Labels truth(10, 2), pred = {5, 5, 5, 5, 5, 5, 6, 6, 6, 6};
+  truth.insert(truth.end(), 4, 3);
+  pred.insert(pred.end(), 4, 5);
+  SegmentationScores want = counts(14, 2, 2, 2);
+  want.paper_precision = 5.0 / 14;
+  want.paper_recall = 0.5;
+  const double v = 1 - 10.0 / 14 * H({0.6, 0.4}) / H({10.0 / 14, 4.0 / 14});
+  want.v = {v, v, v};
+  want.weighted_overlap = 103.0 / 245;
+  want.object_precision = want.object_recall = want.object_f = 4.0 / 7;
+  want.over_segmented = 1;
+  want.under_segmented = 2;
+  expect_scores(score(truth, pred), want);
+}
+
+TEST(Metrics, ThresholdsAreInclusive) {
+  {
+    SCOPED_TRACE("F exactly 0.75");
+    // Objects 2 and 3 (4 points each); segment 5 = three of 2 + one of 3, 6 = the reverse.
+    // Paper: 5 -> 2, 6 -> 3, each P = 3/4, R = 3/4 -> 0.75, 0.75.
+    // V: H(C|K) = H(.75, .25) = H(K|C), H(C) = H(K) = ln 2 -> h = c = v.
+    // Weighted overlap: IoU(2, 5) = IoU(3, 6) = 3/5 -> 0.6.
+    // Object: F(2,5) = F(3,6) = 6/8 = 0.75 exactly, F(2,6) = F(3,5) = 0.25 -> 2-5, 3-6,
+    //   |S∩G| = 6: P = 6/8, R = 6/8, F = 0.75; both at F = 0.75 count as detected -> 1.
+    // Over: each object has 75% + 25% -> 2. Under: each largest segment has 1/4 on the other
+    //   object -> 2.
+    SegmentationScores want = counts(8, 2, 2, 2);
+    want.paper_precision = want.paper_recall = 0.75;
+    const double v = 1 - H({0.75, 0.25}) / std::log(2.0);
+    want.v = {v, v, v};
+    want.weighted_overlap = 0.6;
+    want.object_precision = want.object_recall = want.object_f = 0.75;
+    want.detected_075 = 1;
+    want.over_segmented = want.under_segmented = 2;
+    expect_scores(score({2, 2, 2, 2, 3, 3, 3, 3}, {5, 5, 5, 6, 5, 6, 6, 6}), want);
+  }
+  {
+    SCOPED_TRACE("exactly 10%");
+    // Object 2 (10 points): 9 in segment 5, 1 in segment 6; object 3 (9 points): all in 6.
+    // Paper: 5 -> 2: P = 9/9, R = 9/10; 6 -> 3 (9 vs 1): P = 9/10, R = 9/9 -> 0.95, 0.95.
+    // V: H(C|K) = (10/19) H(.1, .9) (cluster 6) = H(K|C) (class 2), H(C) = H(K) =
+    //   H(10/19, 9/19) -> h = c = v.
+    // Weighted overlap: IoU(2, 5) = 9/10, IoU(3, 6) = 9/10 -> 0.9.
+    // Object: F(2,5) = F(3,6) = 18/19 -> |S∩G| = 18, P = 18/19, R = 18/19, F = 18/19,
+    //   detected 1.
+    // Over: object 2 has 90% + exactly 10% -> 1. Under: 3's largest segment 6 has exactly 1/10
+    //   on object 2 -> 1; 2's largest, 5, is pure.
+    Labels truth(10, 2), pred(9, 5);
+    truth.insert(truth.end(), 9, 3);
+    pred.insert(pred.end(), 10, 6);
+    SegmentationScores want = counts(19, 2, 2, 2);
+    want.paper_precision = want.paper_recall = 0.95;
+    const double v = 1 - 10.0 / 19 * H({0.1, 0.9}) / H({10.0 / 19, 9.0 / 19});
+    want.v = {v, v, v};
+    want.weighted_overlap = 0.9;
+    want.object_precision = want.object_recall = want.object_f = 18.0 / 19;
+    want.detected_075 = 1;
+    want.over_segmented = want.under_segmented = 1;
+    expect_scores(score(truth, pred), want);
+  }
+  {
+    SCOPED_TRACE("exactly half on the background");
+    // Segment 5 = 2 background + 2 object points: exactly half, so kept.
+    // Paper: 5 ties 1 and 2 -> smaller truth label 1: region 1 P = 2/4, R = 1; region 2: 0, 0 ->
+    //   P = 0.25, R = 0.5. V: one cluster -> h = 0, c = 1, V = 0. Weighted overlap: 2/4.
+    // Object: F(2,5) = 4/6, P = 2/4, R = 2/2, F = 2/3; 2/3 < 0.75 -> detected 0.
+    // Over: 0. Under: 2's largest, 5, has half on the background -> 1.
+    SegmentationScores want = counts(4, 2, 1, 1);
+    want.paper_precision = 0.25;
+    want.paper_recall = 0.5;
+    want.v = {0, 1, 0};
+    want.weighted_overlap = 0.5;
+    want.object_precision = 0.5;
+    want.object_recall = 1;
+    want.object_f = 2.0 / 3;
+    want.under_segmented = 1;
+    expect_scores(score({1, 1, 2, 2}, {5, 5, 5, 5}), want);
+  }
+}
+
+TEST(Metrics, MatchingAgreesWithBruteForce) {
+  // Random small scenes; the object recall must be that of a matching with the maximal sum of F
+  // found by trying every matching (any of them, should several reach the maximum).
+  std::mt19937 rng(12345);
+  for (int trial = 0; trial < 400; ++trial) {
+    SCOPED_TRACE(trial);
+    const int n = 5 + static_cast<int>(rng() % 60);
+    const std::uint32_t regions = 1 + rng() % 6, segs = 1 + rng() % 8;
+    Labels truth(n), pred(n);
+    for (int i = 0; i < n; ++i) {
+      truth[i] = rng() % (regions + 1);  // 0 = not evaluated, 1 = background
+      // Half the points follow their truth (through a trial-dependent shuffle), so that F values
+      // spread out instead of all being alike; the rest is noise. 0 = unassigned.
+      pred[i] = rng() % 2 ? (truth[i] * (trial + 3)) % (segs + 1) : rng() % (segs + 1);
+    }
+    std::map<std::uint32_t, std::size_t> g_size, s_size, s_bg;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> inter;
+    for (int i = 0; i < n; ++i) {
+      if (!truth[i]) continue;
+      ++g_size[truth[i]];
+      if (!pred[i]) continue;
+      ++s_size[pred[i]];
+      ++inter[{truth[i], pred[i]}];
+      if (truth[i] == 1) ++s_bg[pred[i]];
+    }
+    std::vector<std::uint32_t> objects, kept;
+    std::size_t object_points = 0;
+    for (const auto& [g, sz] : g_size)
+      if (g != 1) {
+        objects.push_back(g);
+        object_points += sz;
+      }
+    for (const auto& [s, sz] : s_size)
+      if (2 * s_bg[s] <= sz) kept.push_back(s);
+    double best = -1;
+    std::set<std::size_t> best_matched;  // sum |S∩G| of the matchings reaching `best`
+    std::vector<char> used(kept.size(), 0);
+    std::function<void(std::size_t, double, std::size_t)> visit = [&](std::size_t i, double f,
+                                                                      std::size_t m) {
+      if (i == objects.size()) {
+        if (f > best + 1e-12) {
+          best = f;
+          best_matched.clear();
+        }
+        if (f > best - 1e-12) best_matched.insert(m);
+        return;
+      }
+      visit(i + 1, f, m);  // object i unmatched
+      for (std::size_t j = 0; j < kept.size(); ++j) {
+        if (used[j]) continue;
+        const auto it = inter.find({objects[i], kept[j]});
+        const std::size_t k = it == inter.end() ? 0 : it->second;
+        used[j] = 1;
+        visit(i + 1, f + 2.0 * k / (g_size[objects[i]] + s_size[kept[j]]), m + k);
+        used[j] = 0;
+      }
+    };
+    visit(0, 0, 0);
+    const SegmentationScores s = score(truth, pred);
+    const double matched = s.object_recall * object_points;
+    bool found = false;
+    for (const std::size_t m : best_matched) found |= std::abs(matched - m) < 1e-6;
+    EXPECT_TRUE(found || (object_points == 0 && s.object_recall == 0))
+        << "matched " << matched << ", best sum of F " << best;
+  }
+}
+
+TEST(Metrics, PermutationInvariance) {
+  // Renaming the predicted segments (0 stays "unassigned") or reordering the points changes no
+  // score. (This scene has no ties in the matching; with ties the label order breaks them.)
+  std::mt19937 rng(7);
+  const int n = 200;
+  Labels truth(n), pred(n);
+  for (int i = 0; i < n; ++i) {
+    truth[i] = rng() % 5;
+    // Segments follow the truth with some noise, so that the scores are not trivial.
+    pred[i] = rng() % 4 == 0 ? rng() % 7 : truth[i] + (i % 3 == 0 ? 3 : 0);
+  }
+  const SegmentationScores base = score(truth, pred);
+  EXPECT_GT(base.object_f, 0.3);
+  EXPECT_GT(base.over_segmented + base.under_segmented, 0);
+  // Reverses the order of the non-zero ids and spreads them over the whole uint32 range.
+  Labels renamed(n);
+  for (int i = 0; i < n; ++i) renamed[i] = pred[i] ? kMax - 600000000u * pred[i] : 0;
+  expect_scores(score(truth, renamed), base);
+  // Points in reverse order.
+  const Labels truth_rev(truth.rbegin(), truth.rend()), pred_rev(pred.rbegin(), pred.rend());
+  expect_scores(score(truth_rev, pred_rev), base);
+}
+
+TEST(Metrics, SizeMismatchThrows) {
+  EXPECT_THROW(proxseg::score_segmentation({1, 2}, {1}, {1}), std::invalid_argument);
+  EXPECT_THROW(proxseg::score_segmentation({}, {1}, {1}), std::invalid_argument);
+  EXPECT_THROW(proxseg::v_measure({1}, {}), std::invalid_argument);
+}
+
+TEST(Metrics, NoEvaluatedPointsScoresZero) {
+  // Nothing to evaluate: every field 0 (no division by zero, no crash).
+  const SegmentationScores zero;
+  expect_scores(score({}, {}), zero);
+  expect_scores(score({0, 0, 0}, {4, 0, 9}), zero);
+  expect_scores(score({0, 0}, {1, 2}, {}), zero);
+}
+
+TEST(Metrics, OnlyBackground) {
+  // No objects: the object scores are 0, the region scores still work.
+  // Paper: 5 -> 1: P = 3/3, R = 3/4. V: one class -> h = 1; H(K|C) = H(K) -> c = 0, V = 0.
+  SegmentationScores want = counts(4, 1, 0, 1);
+  want.paper_precision = 1;
+  want.paper_recall = 0.75;
+  want.v = {1, 0, 0};
+  expect_scores(score({1, 1, 1, 1}, {5, 5, 5, 0}), want);
+}
+
+TEST(Metrics, MosdSchemes) {
+  const Labels raw = {0, 1, 2, 5, 9, 10, 19, 20, 21, 29, 30, 31, 42, 110, kMax};
+  // Parts: table parts 1-9 -> 1, everything else unchanged.
+  EXPECT_EQ(proxseg::mosd_parts(raw),
+            (Labels{0, 1, 1, 1, 1, 10, 19, 20, 21, 29, 30, 31, 42, 110, kMax}));
+  // Objects: label / 10 with the table parts -> 1.
+  EXPECT_EQ(proxseg::mosd_objects(raw),
+            (Labels{0, 1, 1, 1, 1, 1, 1, 2, 2, 2, 3, 3, 4, 11, kMax / 10}));
+  EXPECT_TRUE(proxseg::mosd_parts({}).empty());
+}
+
+TEST(Metrics, RealMosdScene) {
+  const std::string path = PROXSEG_DATA_DIR "/mosd/learn/learn0.pcd";
+  // The real data must be there (CI has it): fail loudly rather than skip.
+  ASSERT_TRUE(std::filesystem::exists(path)) << "missing real data: " << path;
+  const proxseg::Frame f = proxseg::read_pcd(path);
+  ASSERT_EQ(f.label.size(), f.size());
+  // NaN points are not evaluated: zeroing their truth is the caller's job.
+  auto evaluated = [&f](Labels truth) {
+    for (std::size_t i = 0; i < f.size(); ++i)
+      if (!f.valid(i)) truth[i] = 0;
+    return truth;
+  };
+  const Labels truth = evaluated(proxseg::mosd_objects(f.label));
+  std::map<std::uint32_t, std::size_t> size;
+  for (const std::uint32_t t : truth)
+    if (t) ++size[t];
+  // learn0: table 1 and objects 2, 3.
+  ASSERT_EQ(size.size(), 3u);
+  ASSERT_EQ(size.begin()->first, 1u);
+  std::size_t n = 0, objects = 0, squares = 0;
+  for (const auto& [t, k] : size) {
+    n += k;
+    if (t != 1) {
+      objects += k;
+      squares += k * k;
+    }
+  }
+  const std::size_t table = size[1];
+
+  SegmentationScores perfect = counts(n, 3, 2, 3);
+  perfect.paper_precision = perfect.paper_recall = 1;
+  perfect.v = {1, 1, 1};
+  perfect.weighted_overlap = 1;
+  perfect.object_precision = perfect.object_recall = perfect.object_f = perfect.detected_075 = 1;
+  expect_scores(score(truth, truth), perfect);
+  // Parts against themselves: the same (learn0 has one part per object, 20 and 30).
+  const Labels parts = evaluated(proxseg::mosd_parts(f.label));
+  expect_scores(score(parts, parts), perfect);
+
+  // One segment over everything, invalid points too (they are not evaluated).
+  // Paper: the segment goes to the table (the largest region): P = (table / n) / 3, R = 1 / 3.
+  // V: h = 0, c = 1, V = 0. Weighted overlap: IoU(G, S) = |G| / n -> sum |G|^2 / (n sum |G|).
+  // Object: the segment is mostly table, so it is left out: no kept segment, P = R = F = 0,
+  //   detected 0. Over: 0. Under: each object's largest segment is the one segment, >= 10% of
+  //   it on the table -> 2.
+  ASSERT_GT(2 * table, n);
+  SegmentationScores one = counts(n, 3, 2, 1);
+  one.paper_precision = static_cast<double>(table) / n / 3;
+  one.paper_recall = 1.0 / 3;
+  one.v = {0, 1, 0};
+  one.weighted_overlap = static_cast<double>(squares) / (static_cast<double>(n) * objects);
+  one.under_segmented = 2;
+  expect_scores(score(truth, Labels(truth.size(), 1)), one);
+}
