@@ -2,13 +2,15 @@
 #   make demo   install what is missing (apt), build, segment the built-in synthetic scene
 #               (and a real mOSD scene when ../shared/data is present)
 #   make test   install what is missing, build, run every test (ctest)
+#   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
+#   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps configure build demo test format clean
+.PHONY: all deps deps-bench configure build demo test bench bench-seg format clean
 
 all: build
 
@@ -32,6 +34,21 @@ demo: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Benchmarks need PCL (the peers); it is installed here, never for the library or the tests.
+deps-bench:
+	@bash scripts/install-deps.sh --bench
+
+bench: bench-seg
+
+bench-seg: deps-bench configure
+	@cmake -S . -B $(BUILD) >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench
+	@mkdir -p $(BUILD)/bench-out
+	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --out $(BUILD)/bench-out/segmentation.md \
+	  --csv $(BUILD)/bench-out/segmentation.csv
+	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
+	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
 
 format:
 	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp tests/*.cpp bench/*.cpp

@@ -32,8 +32,8 @@ struct SegmentOptions {
 };
 
 void add_segment(CLI::App& app, SegmentOptions& o) {
-  auto* cmd =
-      app.add_subcommand("segment", "Segment an RGB-D scene into regions and candidate objects (paper 3.1-3.3)");
+  auto* cmd = app.add_subcommand(
+      "segment", "Segment an RGB-D scene into regions and candidate objects (paper 3.1-3.3)");
   cmd->add_option("input", o.input,
                   "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
   cmd->add_option("-o,--output", o.output,
@@ -171,7 +171,6 @@ int run_synth(const SynthOptions& o) {
   return 0;
 }
 
-
 // A progress bar on stderr for batch work: redrawn in place on a terminal, one line per step
 // otherwise (logs stay readable in CI).
 class Progress {
@@ -180,7 +179,8 @@ class Progress {
   void step(const std::string& what) {
     ++done_;
     if (tty_) {
-      const int width = 30, filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
+      const int width = 30,
+                filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
       std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
                 << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
       if (done_ == total_) std::cerr << "\n";
@@ -329,7 +329,8 @@ int run_eval_batch(const EvalOptions& o) {
     proxseg::write_file_atomic((out / "scenes.csv").string(), proxseg::scenes_csv(scenes));
     proxseg::write_file_atomic((out / "summary.md").string(), markdown);
     proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
-    std::cerr << "proxseg: wrote " << (out / "scenes.csv").string() << ", summary.md, summary.json\n";
+    std::cerr << "proxseg: wrote " << (out / "scenes.csv").string()
+              << ", summary.md, summary.json\n";
   }
   if (o.json)
     std::cout << summary.dump(2) << "\n";

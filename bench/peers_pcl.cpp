@@ -1,13 +1,13 @@
 // PCL peer segmenters (see peers_pcl.hpp). The only translation unit that includes PCL.
 #include "peers_pcl.hpp"
 
+#include <pcl/ModelCoefficients.h>
+#include <pcl/PointIndices.h>
 #include <pcl/console/print.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/ModelCoefficients.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-#include <pcl/PointIndices.h>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
 #include <pcl/search/kdtree.h>
@@ -25,12 +25,15 @@
 namespace proxseg::peers {
 namespace {
 
-void quiet() { pcl::console::setVerbosityLevel(pcl::console::L_ERROR); }
+void quiet() {
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+}
 
 // Renumbers the non-zero labels 1..n (first_id..) in the order of their smallest point index;
 // labels listed in `fixed` keep the id given there.
 void renumber(std::vector<std::uint32_t>& labels,
-              const std::map<std::uint32_t, std::uint32_t>& fixed = {}, std::uint32_t first_id = 1) {
+              const std::map<std::uint32_t, std::uint32_t>& fixed = {},
+              std::uint32_t first_id = 1) {
   std::unordered_map<std::uint32_t, std::uint32_t> ids(fixed.begin(), fixed.end());
   std::uint32_t next = first_id;
   for (std::uint32_t& l : labels) {
@@ -175,7 +178,8 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame, const RegionGr
   reg.extract(clusters);
 
   for (std::size_t c = 0; c < clusters.size(); ++c)
-    for (const auto k : clusters[c].indices) labels[idx[static_cast<std::size_t>(k)]] = std::uint32_t(c + 1);
+    for (const auto k : clusters[c].indices)
+      labels[idx[static_cast<std::size_t>(k)]] = std::uint32_t(c + 1);
   renumber(labels);
   return labels;
 }

@@ -85,8 +85,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads for proxseg (0 = all cores)");
   CLI11_PARSE(app, argc, argv);
 
-  std::map<std::string, proxseg::SegmentParams> presets = {
-      {"paper", proxseg::preset("paper")}, {"default", proxseg::preset("default")}};
+  std::map<std::string, proxseg::SegmentParams> presets = {{"paper", proxseg::preset("paper")},
+                                                           {"default", proxseg::preset("default")}};
   for (auto& [name, p] : presets) p.threads = threads;
 
   std::map<std::string, std::map<std::string, double>> stage_ms;  // preset -> stage -> sum
@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
       const auto truth = proxseg::truth_objects(f);
       const auto km = proxseg::score_segmentation(truth, r.point_labels_kmeans, {1});
       const auto mrf = proxseg::score_segmentation(truth, r.point_labels, {1});
-      for (const auto& [row, s] : {std::pair{name + " k-means", &km},
-                                   std::pair{name + " k-means+MRF", &mrf}}) {
+      for (const auto& [row, s] :
+           {std::pair{name + " k-means", &km}, std::pair{name + " k-means+MRF", &mrf}}) {
         table1[row].precision += s->paper_precision;
         table1[row].recall += s->paper_recall;
         table1[row].v += s->v.v;
@@ -177,8 +177,8 @@ int main(int argc, char** argv) {
   md << "\n### proxseg stage times (ms per frame, mean)\n\n| stage | paper | default |\n"
      << "|---|---|---|\n";
   for (const auto& [stage, ms] : stage_ms["default"])
-    md << "| " << stage << " | " << fmt(stage_ms["paper"][stage] / n, 1) << " | "
-       << fmt(ms / n, 1) << " |\n";
+    md << "| " << stage << " | " << fmt(stage_ms["paper"][stage] / n, 1) << " | " << fmt(ms / n, 1)
+       << " |\n";
   md << "\nPresets: `paper` = the paper's settings (w_c = 0.275, alpha-beta swap, 2 cm voxels, "
         "alpha = 0.85); `default` = the best measured settings (docs/method.md). Peers: PCL 1.13 "
         "supervoxels + LCCP (voxel 0.0075, seed 0.03, colour 0, spatial 1, normal 4, concavity "

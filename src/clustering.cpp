@@ -1,10 +1,14 @@
 // Initial clustering [paper Algorithm 1] and k-means [paper 3.2].
 #include <proxseg/clustering.hpp>
 
+#include <omp.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Jacobi>
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
+#include <cmath>
 #include <deque>
 #include <limits>
 #include <numeric>
@@ -12,34 +16,223 @@
 
 namespace proxseg {
 
-FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims) {
-  FeatureSpace space;
-  const Eigen::MatrixXd f = features.cast<double>();
-  const Eigen::Index n = f.rows(), d = f.cols();
-  space.mean = n > 0 ? Eigen::VectorXd(f.colwise().mean().transpose()) : Eigen::VectorXd::Zero(d);
-  if (n < 2) {
-    space.axes = Eigen::MatrixXd::Zero(d, 0);
-    space.variances = Eigen::VectorXd::Zero(0);
-    return space;
+namespace {
+
+// Covariance (lower triangle only) of the columns `cols` of `features`, in double. Histogram
+// features are mostly zeros (about 1 value in 8 is non-zero on mOSD), so when that pays the
+// cross products are accumulated over the non-zeros only, as S - n m m^T with S = sum f f^T (the
+// products of two floats are exact in double); dense features use a dense product of the
+// centred columns. Every entry is summed by one thread in row order: the result does not depend
+// on the number of threads.
+Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vector<int>& cols,
+                                 int threads) {
+  const Eigen::Index n = features.rows();
+  const int d = static_cast<int>(cols.size());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(d);
+  // Non-zeros per row (compressed rows, columns ascending), built column by column.
+  std::vector<int> start(n + 1, 0);
+  for (int a = 0; a < d; ++a)
+    for (Eigen::Index k = 0; k < n; ++k) start[k + 1] += features(k, cols[a]) != 0.f;
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<int> index(start[n]);
+  std::vector<double> value(start[n]);
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int a = 0; a < d; ++a)
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const float v = features(k, cols[a]);
+        sum(a) += v;
+        if (v != 0.f) index[fill[k]] = a, value[fill[k]++] = v;
+      }
   }
-  const Eigen::MatrixXd centred = f.rowwise() - space.mean.transpose();
-  const Eigen::MatrixXd cov = (centred.transpose() * centred) / static_cast<double>(n - 1);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
-  const Eigen::VectorXd values = eig.eigenvalues();  // ascending
+  const Eigen::VectorXd mean = sum / static_cast<double>(n);
+  // Multiply-adds of each path; a dense one costs about a tenth of a scattered sparse one.
+  double sparse_work = 0;
+  for (Eigen::Index k = 0; k < n; ++k) sparse_work += 0.5 * std::pow(start[k + 1] - start[k], 2.0);
+  const double dense_work = 0.5 * static_cast<double>(n) * d * d;
+  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+
+  Eigen::MatrixXd cov(d, d);
+  constexpr int kPanel = 32;  // output columns per task
+  const int panels = (d + kPanel - 1) / kPanel;
+  if (sparse_work < 0.1 * dense_work) {
+    // Row a of the lower triangle, S(a, 0..a), belongs to one task; within it the rows k of the
+    // features are added in order.
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> s =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(d, d);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+    for (int p = 0; p < panels; ++p) {
+      const int a0 = p * kPanel, a1 = std::min(d, a0 + kPanel);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        const int* idx = index.data() + start[k];
+        const double* val = value.data() + start[k];
+        const int m = start[k + 1] - start[k];
+        for (int i = static_cast<int>(std::lower_bound(idx, idx + m, a0) - idx);
+             i < m && idx[i] < a1; ++i) {
+          double* row = s.data() + static_cast<Eigen::Index>(idx[i]) * d;
+          const double vi = val[i];
+          for (int j = 0; j <= i; ++j) row[idx[j]] += vi * val[j];
+        }
+      }
+    }
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b <= a; ++b) cov(a, b) = (s(a, b) - mean(b) * sum(a)) / (n - 1.0);
+  } else {
+    Eigen::MatrixXd centred(n, d);
+    for (int a = 0; a < d; ++a)
+      centred.col(a) = features.col(cols[a]).cast<double>().array() - mean(a);
+      // Panel p: columns [b0, b1) of the lower triangle, rows b0..d-1.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+    for (int p = 0; p < panels; ++p) {
+      const int b0 = p * kPanel, w = std::min(d, b0 + kPanel) - b0;
+      cov.block(b0, b0, d - b0, w).noalias() =
+          centred.rightCols(d - b0).transpose() * centred.middleCols(b0, w) / (n - 1.0);
+    }
+  }
+  return cov;
+}
+
+// The k largest eigenvalues of the symmetric matrix whose lower triangle is `a`, descending,
+// with unit eigenvectors, and the largest eigenvalue. Same algorithm as
+// Eigen::SelfAdjointEigenSolver (scaling, Householder tridiagonalisation, implicit symmetric QR
+// with Wilkinson shifts), but the Givens rotations are recorded instead of being applied to a
+// full d x d basis: the k wanted eigenvectors of the tridiagonal matrix are then the rotations
+// applied, last first, to unit vectors, and only those k are taken back through the Householder
+// reflections. A full eigen-decomposition of a 454 x 454 covariance costs about 30 ms; this
+// costs the tridiagonalisation (a third of that).
+struct TopEigen {
+  Eigen::VectorXd values;   // k, descending
+  Eigen::MatrixXd vectors;  // d x k
+  double largest = 0;
+};
+TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
+  const Eigen::Index d = a.rows();
+  TopEigen out;
+  if (d == 1) {
+    out.values = Eigen::VectorXd::Constant(1, a(0, 0));
+    out.vectors = Eigen::MatrixXd::Ones(1, 1);
+    out.largest = a(0, 0);
+    out.values.conservativeResize(std::min<Eigen::Index>(k, 1));
+    out.vectors.conservativeResize(1, out.values.size());
+    return out;
+  }
+  // Map the coefficients to [-1, 1] against over- and underflow.
+  Eigen::MatrixXd m = a.triangularView<Eigen::Lower>();
+  double scale = m.cwiseAbs().maxCoeff();
+  if (scale == 0) scale = 1;
+  m /= scale;
+  const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(m);
+  Eigen::VectorXd diag = tri.diagonal();
+  Eigen::VectorXd sub = tri.subDiagonal();
+
+  struct Rotation {
+    Eigen::Index k;
+    double c, s;
+  };
+  std::vector<Rotation> rotations;
+  const double zero = std::numeric_limits<double>::min();
+  const double precision_inv = 1.0 / std::numeric_limits<double>::epsilon();
+  const Eigen::Index max_iterations = 30 * d;  // Eigen's default budget
+  Eigen::Index end = d - 1, iter = 0;
+  while (end > 0) {
+    for (Eigen::Index i = 0; i < end; ++i) {  // deflate negligible off-diagonal entries
+      const double scaled = precision_inv * sub[i];
+      if (std::abs(sub[i]) < zero || scaled * scaled <= std::abs(diag[i]) + std::abs(diag[i + 1]))
+        sub[i] = 0;
+    }
+    while (end > 0 && sub[end - 1] == 0) --end;
+    if (end <= 0) break;
+    if (++iter > max_iterations) throw std::runtime_error("principal axes: no convergence");
+    Eigen::Index start = end - 1;
+    while (start > 0 && sub[start - 1] != 0) --start;
+    // One implicit QR step with Wilkinson shift on the unreduced block [start, end].
+    const double td = (diag[end - 1] - diag[end]) * 0.5, e = sub[end - 1];
+    double mu = diag[end];
+    if (td == 0) {
+      mu -= std::abs(e);
+    } else if (e != 0) {
+      const double e2 = e * e, h = std::hypot(td, e);
+      mu -= e2 == 0 ? e / ((td + (td > 0 ? h : -h)) / e) : e2 / (td + (td > 0 ? h : -h));
+    }
+    double x = diag[start] - mu, z = sub[start];
+    for (Eigen::Index j = start; j < end && z != 0; ++j) {
+      Eigen::JacobiRotation<double> rot;
+      rot.makeGivens(x, z);
+      const double c = rot.c(), s = rot.s();
+      const double sdk = s * diag[j] + c * sub[j];
+      const double dkp1 = s * sub[j] + c * diag[j + 1];
+      diag[j] = c * (c * diag[j] - s * sub[j]) - s * (c * sub[j] - s * diag[j + 1]);
+      diag[j + 1] = s * sdk + c * dkp1;
+      sub[j] = c * sdk - s * dkp1;
+      if (j > start) sub[j - 1] = c * sub[j - 1] - s * z;
+      x = sub[j];
+      if (j < end - 1) {
+        z = -s * sub[j + 1];
+        sub[j + 1] = c * sub[j + 1];
+      }
+      rotations.push_back({j, c, s});  // basis Z <- Z G, G = [c s; -s c] on columns j, j+1
+    }
+  }
+  // Largest first (equal values in position order).
+  std::vector<Eigen::Index> order(d);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index p, Eigen::Index q) { return diag[p] > diag[q]; });
+  const Eigen::Index keep = std::min<Eigen::Index>(k, d);
+  out.largest = diag[order[0]] * scale;
+  out.values.resize(keep);
+  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(d, keep);
+  for (Eigen::Index c = 0; c < keep; ++c) {
+    out.values(c) = diag[order[c]] * scale;
+    z(order[c], c) = 1;
+  }
+  // Z e = G_1 (G_2 (... (G_m e))): apply the rotations to the wanted columns, last first.
+  for (auto r = rotations.rbegin(); r != rotations.rend(); ++r)
+    for (Eigen::Index c = 0; c < keep; ++c) {
+      const double u = z(r->k, c), v = z(r->k + 1, c);
+      z(r->k, c) = r->c * u + r->s * v;
+      z(r->k + 1, c) = -r->s * u + r->c * v;
+    }
+  out.vectors = tri.matrixQ() * z;
+  return out;
+}
+
+}  // namespace
+
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims) {
+  return principal_axes(features, dims, 0);
+}
+
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads) {
+  FeatureSpace space;
+  const Eigen::Index n = features.rows(), d = features.cols();
+  space.mean = n > 0 ? Eigen::VectorXd(features.cast<double>().colwise().mean().transpose())
+                     : Eigen::VectorXd::Zero(d);
+  space.axes = Eigen::MatrixXd::Zero(d, 0);
+  space.variances = Eigen::VectorXd::Zero(0);
+  if (n < 2) return space;
+  // Constant columns (bins no voxel of the frame uses, switched-off blocks) carry no variance:
+  // the eigenproblem is solved on the others, and the axes are zero in those columns.
+  std::vector<int> varying;
+  for (Eigen::Index c = 0; c < d; ++c)
+    if ((features.col(c).array() != features(0, c)).any()) varying.push_back(static_cast<int>(c));
+  if (varying.empty()) return space;
+  const TopEigen eig =
+      top_eigen(covariance_lower(features, varying, threads), std::min<int>(dims, d));
   // Keep the leading axes, but none that carries no variance (switched-off blocks, n < dims).
-  const double floor = std::max(values.maxCoeff(), 0.0) * 1e-9;
+  const double floor = std::max(eig.largest, 0.0) * 1e-9;
   int keep = 0;
-  while (keep < std::min<Eigen::Index>(dims, d) && values(d - 1 - keep) > floor) ++keep;
-  space.axes.resize(d, keep);
+  while (keep < eig.values.size() && eig.values(keep) > floor) ++keep;
+  space.axes = Eigen::MatrixXd::Zero(d, keep);
   space.variances.resize(keep);
   for (int a = 0; a < keep; ++a) {
-    Eigen::VectorXd axis = eig.eigenvectors().col(d - 1 - a);
+    Eigen::VectorXd axis = eig.vectors.col(a);
     // Fix the sign (largest component positive) so the projection is reproducible.
     Eigen::Index arg;
     axis.cwiseAbs().maxCoeff(&arg);
     if (axis(arg) < 0) axis = -axis;
-    space.axes.col(a) = axis;
-    space.variances(a) = values(d - 1 - a);
+    for (std::size_t c = 0; c < varying.size(); ++c) space.axes(varying[c], a) = axis(c);
+    space.variances(a) = eig.values(a);
   }
   return space;
 }

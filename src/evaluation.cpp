@@ -66,8 +66,11 @@ std::string scene_category(const std::string& scene_name) {
   const std::string name = std::filesystem::path(scene_name).filename().string();
   if (!std::regex_match(name, m, learn)) return "other";
   const int i = std::stoi(m[1]);
-  return i <= 16 ? "boxes" : i <= 24 ? "stacked" : i <= 32 ? "occluded" : i <= 44 ? "cylindric"
-                                                                                  : "other";
+  return i <= 16   ? "boxes"
+         : i <= 24 ? "stacked"
+         : i <= 32 ? "occluded"
+         : i <= 44 ? "cylindric"
+                   : "other";
 }
 
 std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
@@ -76,8 +79,8 @@ std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
   for (const auto& s : scenes)
     if (std::find(methods.begin(), methods.end(), s.method) == methods.end())
       methods.push_back(s.method);
-  const std::vector<std::string> categories = {"boxes", "stacked", "occluded", "cylindric",
-                                               "other", "all"};
+  const std::vector<std::string> categories = {"boxes",     "stacked", "occluded",
+                                               "cylindric", "other",   "all"};
   std::vector<SummaryRow> rows;
   for (const auto& method : methods)
     for (const auto& category : categories) {
@@ -125,21 +128,21 @@ std::string scenes_csv(const std::vector<SceneScores>& scenes) {
   std::ostringstream out;
   out << "scene,category,method,seconds";
   for (const char* scheme : {"objects", "parts"})
-    for (const char* m : {"paper_precision", "paper_recall", "homogeneity", "completeness",
-                          "v_measure", "weighted_overlap", "object_precision", "object_recall",
-                          "object_f", "detected_075", "over_segmented", "under_segmented",
-                          "truth_objects", "segments"})
+    for (const char* m :
+         {"paper_precision", "paper_recall", "homogeneity", "completeness", "v_measure",
+          "weighted_overlap", "object_precision", "object_recall", "object_f", "detected_075",
+          "over_segmented", "under_segmented", "truth_objects", "segments"})
       out << "," << scheme << "_" << m;
   out << "\n";
   for (const auto& s : scenes) {
     out << s.scene << "," << s.category << "," << s.method << "," << fmt(s.seconds, 4);
     for (const SegmentationScores* x : {&s.objects, &s.parts})
       out << "," << fmt(x->paper_precision, 4) << "," << fmt(x->paper_recall, 4) << ","
-          << fmt(x->v.homogeneity, 4) << "," << fmt(x->v.completeness, 4) << ","
-          << fmt(x->v.v, 4) << "," << fmt(x->weighted_overlap, 4) << ","
-          << fmt(x->object_precision, 4) << "," << fmt(x->object_recall, 4) << ","
-          << fmt(x->object_f, 4) << "," << fmt(x->detected_075, 4) << "," << x->over_segmented
-          << "," << x->under_segmented << "," << x->truth_objects << "," << x->segments;
+          << fmt(x->v.homogeneity, 4) << "," << fmt(x->v.completeness, 4) << "," << fmt(x->v.v, 4)
+          << "," << fmt(x->weighted_overlap, 4) << "," << fmt(x->object_precision, 4) << ","
+          << fmt(x->object_recall, 4) << "," << fmt(x->object_f, 4) << ","
+          << fmt(x->detected_075, 4) << "," << x->over_segmented << "," << x->under_segmented << ","
+          << x->truth_objects << "," << x->segments;
     out << "\n";
   }
   return out.str();
@@ -157,8 +160,7 @@ std::string summary_markdown(const std::vector<SummaryRow>& rows) {
         << fmt(r.objects.v.v) << " | " << fmt(r.objects.weighted_overlap) << " | "
         << fmt(r.objects.paper_precision) << " | " << fmt(r.objects.paper_recall) << " | "
         << fmt(r.over_segmented, 2) << " | " << fmt(r.under_segmented, 2) << " | "
-        << fmt(r.parts.object_f) << " | " << fmt(r.parts.v.v) << " | " << fmt(r.seconds)
-        << " |\n";
+        << fmt(r.parts.object_f) << " | " << fmt(r.parts.v.v) << " | " << fmt(r.seconds) << " |\n";
   return out.str();
 }
 

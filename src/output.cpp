@@ -141,14 +141,13 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
     auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
     std::vector<std::vector<double>> axes;
     for (int a = 0; a < 3; ++a) axes.push_back(vec(c.box.axes.col(a)));
-    candidates.push_back({{"id", c.instance},
-                          {"label", c.label},
-                          {"points", c.points.size()},
-                          {"centroid", vec(c.centroid)},
-                          {"box", {{"centre", vec(c.box.centre)},
-                                   {"axes", axes},
-                                   {"extent", vec(c.box.extent)}}},
-                          {"background", c.background}});
+    candidates.push_back(
+        {{"id", c.instance},
+         {"label", c.label},
+         {"points", c.points.size()},
+         {"centroid", vec(c.centroid)},
+         {"box", {{"centre", vec(c.box.centre)}, {"axes", axes}, {"extent", vec(c.box.extent)}}},
+         {"background", c.background}});
   }
   j["selection"] = {{"clusters", sel.clusters},
                     {"weak_points", sel.weak_points},

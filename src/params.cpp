@@ -48,6 +48,14 @@ void fields(P& p, F&& f) {
   f("selection", "weak_density_ratio", p.selection.weak_density_ratio);
   f("selection", "cluster_tolerance", p.selection.cluster_tolerance);
   f("selection", "min_candidate_points", p.selection.min_candidate_points);
+  f("selection", "concavity_tolerance_deg", p.selection.concavity_tolerance_deg);
+  f("selection", "split_concave", p.selection.split_concave);
+  f("selection", "merge_convex", p.selection.merge_convex);
+  f("selection", "merge_max_concave_share", p.selection.merge_max_concave_share);
+  f("selection", "merge_min_boundary", p.selection.merge_min_boundary);
+  f("selection", "cut_support_plane", p.selection.cut_support_plane);
+  f("selection", "absorb_small", p.selection.absorb_small);
+  f("selection", "support_normal_tolerance_deg", p.selection.support_normal_tolerance_deg);
   f("selection", "background_min_area", p.selection.background_min_area);
   f("selection", "background_plane_distance", p.selection.background_plane_distance);
   f("selection", "background_inlier_ratio", p.selection.background_inlier_ratio);
@@ -148,6 +156,12 @@ SegmentParams preset(const std::string& name) {
     p.mrf.unary_weight = 1.0;
     p.mrf.pairwise_weight = 0.275;
     p.mrf.method = MrfMethod::kSwap;
+    // Section 3.3 as written: same-label clusters split at weak links, kept by size; none of the
+    // convexity, support-plane or small-fragment extensions.
+    p.selection.split_concave = false;
+    p.selection.merge_convex = false;
+    p.selection.cut_support_plane = false;
+    p.selection.absorb_small = false;
     return p;
   }
   throw InputError("preset: expected \"default\" or \"paper\", got \"" + name + "\"");
@@ -195,6 +209,15 @@ void validate(const SegmentParams& p) {
   require(finite(sp.cluster_tolerance) && sp.cluster_tolerance > 0, "selection.cluster_tolerance",
           "a positive distance in metres");
   require(sp.min_candidate_points >= 1, "selection.min_candidate_points", ">= 1");
+  require(finite(sp.concavity_tolerance_deg) && sp.concavity_tolerance_deg >= 0 &&
+              sp.concavity_tolerance_deg <= 180,
+          "selection.concavity_tolerance_deg", "0..180 degrees");
+  require(sp.merge_max_concave_share >= 0 && sp.merge_max_concave_share <= 1,
+          "selection.merge_max_concave_share", "in [0, 1]");
+  require(sp.merge_min_boundary >= 1, "selection.merge_min_boundary", ">= 1");
+  require(finite(sp.support_normal_tolerance_deg) && sp.support_normal_tolerance_deg >= 0 &&
+              sp.support_normal_tolerance_deg <= 90,
+          "selection.support_normal_tolerance_deg", "0..90 degrees");
   require(finite(sp.background_min_area) && sp.background_min_area >= 0,
           "selection.background_min_area", ">= 0 square metres");
   require(finite(sp.background_plane_distance) && sp.background_plane_distance >= 0,

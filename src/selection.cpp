@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -127,9 +128,102 @@ struct UnionFind {
   }
 };
 
-// Clusters [3.3]: connected components of same-label voxels over the 26-neighbourhood.
+// Local surface of every voxel: centroid and normal (smallest principal axis of its points,
+// turned towards the sensor at the origin); voxels with fewer than 3 points have no normal.
+struct VoxelSurface {
+  std::vector<Eigen::Vector3f> centroid, normal;
+  std::vector<char> has_normal;
+};
+
+VoxelSurface voxel_surface(const Frame& frame, const VoxelGrid& grid) {
+  VoxelSurface vs;
+  vs.centroid.assign(grid.size(), Eigen::Vector3f::Zero());
+  vs.normal.assign(grid.size(), Eigen::Vector3f::Zero());
+  vs.has_normal.assign(grid.size(), 0);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int v = 0; v < static_cast<int>(grid.size()); ++v) {
+    const auto& pts = grid.points[v];
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int p : pts) mean += frame.xyz[p].cast<double>();
+    mean /= std::max<double>(1.0, pts.size());
+    vs.centroid[v] = mean.cast<float>();
+    if (pts.size() < 3) continue;
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int p : pts) {
+      const Eigen::Vector3d d = frame.xyz[p].cast<double>() - mean;
+      cov += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(cov);
+    // Points along a line (a voxel clipping an edge of the cloud) have no defined normal.
+    if (eig.eigenvalues()[1] < 0.01 * eig.eigenvalues()[2]) continue;
+    Eigen::Vector3d n = eig.eigenvectors().col(0);
+    if (n.dot(-mean) < 0) n = -n;
+    vs.normal[v] = n.cast<float>();
+    vs.has_normal[v] = 1;
+  }
+  return vs;
+}
+
+// The convexity criterion of Stein et al. (LCCP, CVPR 2014) on voxels: two neighbouring surface
+// patches meet in a concave edge when their normals differ by more than the tolerance and turn
+// towards each other, (n_u - n_v) . (x_u - x_v) < 0. Objects meet their support and each other in
+// concave edges; the faces of one object meet in convex ones.
+bool concave(const VoxelSurface& vs, int u, int v, float cos_tolerance) {
+  if (!vs.has_normal[u] || !vs.has_normal[v]) return false;
+  if (vs.normal[u].dot(vs.normal[v]) >= cos_tolerance) return false;
+  return (vs.normal[u] - vs.normal[v]).dot(vs.centroid[u] - vs.centroid[v]) < 0;
+}
+
+// The dominant supporting plane (table, floor) as a set of voxels: the plane through a voxel's
+// centroid along its normal that gathers the most points of voxels lying in it with a parallel
+// normal. Hypotheses are an even spread of voxels, so there is no randomness. Returns per voxel
+// whether it lies in the plane; all false if the best plane covers less than min_area.
+std::vector<char> support_plane(const VoxelGrid& grid, const VoxelSurface& vs,
+                                const SelectionParams& params) {
+  std::vector<int> candidates;
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (vs.has_normal[v]) candidates.push_back(static_cast<int>(v));
+  std::vector<char> in_plane(grid.size(), 0);
+  if (candidates.empty()) return in_plane;
+  const float cos_tol =
+      static_cast<float>(std::cos(params.support_normal_tolerance_deg * M_PI / 180));
+  const float dist = static_cast<float>(params.background_plane_distance);
+  auto inlier = [&](int h, int v) {
+    return std::abs(vs.normal[h].dot(vs.centroid[v] - vs.centroid[h])) <= dist &&
+           std::abs(vs.normal[h].dot(vs.normal[v])) >= cos_tol;
+  };
+  const int hypotheses = std::min<int>(300, candidates.size());
+  std::vector<std::size_t> support(hypotheses, 0);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (int i = 0; i < hypotheses; ++i) {
+    const int h = candidates[static_cast<std::size_t>(i) * candidates.size() / hypotheses];
+    for (int v : candidates)
+      if (inlier(h, v)) support[i] += grid.points[v].size();
+  }
+  const int best =
+      static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
+  const int h = candidates[static_cast<std::size_t>(best) * candidates.size() / hypotheses];
+  std::size_t voxels = 0;
+  for (int v : candidates)
+    if (inlier(h, v)) in_plane[v] = 1, ++voxels;
+  // Voxels without a normal (too few points, or collinear ones) join the plane by distance alone.
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (!vs.has_normal[v] && !grid.points[v].empty() &&
+        std::abs(vs.normal[h].dot(vs.centroid[v] - vs.centroid[h])) <= dist)
+      in_plane[v] = 1;
+  const double area = voxels * grid.voxel_size * grid.voxel_size;
+  if (area < params.background_min_area) std::fill(in_plane.begin(), in_plane.end(), 0);
+  return in_plane;
+}
+
+// Clusters [3.3]: connected components of same-label voxels over the 26-neighbourhood; with
+// split_concave, concave edges do not connect either.
 std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::uint32_t>& labels,
-                                int& count) {
+                                const VoxelSurface& surface, const std::vector<char>& in_plane,
+                                const SelectionParams& params, int& count) {
+  const float cos_tolerance =
+      static_cast<float>(std::cos(params.concavity_tolerance_deg * M_PI / 180.0));
   std::vector<std::uint32_t> voxel_label(grid.size(), 0);
   for (std::size_t v = 0; v < grid.size(); ++v)
     if (!grid.points[v].empty()) voxel_label[v] = labels[grid.points[v][0]];
@@ -144,7 +238,8 @@ std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::ui
       const int v = queue.front();
       queue.pop_front();
       for (int n : grid.neighbours[v])
-        if (cluster[n] < 0 && voxel_label[n] == voxel_label[v]) {
+        if (cluster[n] < 0 && voxel_label[n] == voxel_label[v] && in_plane[n] == in_plane[v] &&
+            !(params.split_concave && concave(surface, v, n, cos_tolerance))) {
           cluster[n] = count;
           queue.push_back(n);
         }
@@ -152,6 +247,54 @@ std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::ui
     ++count;
   }
   return cluster;
+}
+
+// Merges neighbouring components whose common boundary is convex or flat (at most
+// merge_max_concave_share of its voxel edges concave): the faces of one object that the
+// features told apart. Returns the merged component of every point.
+void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const SelectionParams& params,
+                  const std::map<int, const Candidate*>& background,
+                  const std::map<int, const Candidate*>& pieces, std::vector<int>& component) {
+  const float cos_tolerance =
+      static_cast<float>(std::cos(params.concavity_tolerance_deg * M_PI / 180.0));
+  std::vector<int> voxel_component(grid.size(), -1);
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (!grid.points[v].empty()) voxel_component[v] = component[grid.points[v][0]];
+  std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // (a, b) -> (edges, concave)
+  for (std::size_t u = 0; u < grid.size(); ++u)
+    for (int v : grid.neighbours[u]) {
+      const int a = voxel_component[u], b = voxel_component[v];
+      if (static_cast<int>(u) >= v || a < 0 || b < 0 || a == b) continue;
+      auto& e = boundary[{std::min(a, b), std::max(a, b)}];
+      ++e.first;
+      e.second += concave(surface, static_cast<int>(u), v, cos_tolerance);
+    }
+  std::map<int, int> parent;
+  auto find = [&](int a) {
+    while (parent.count(a) && parent[a] != a) a = parent[a];
+    return a;
+  };
+  auto coplanar = [&](const Candidate& a, const Candidate& b) {
+    const Eigen::Vector3d na = a.box.axes.col(2), nb = b.box.axes.col(2);
+    return std::abs(na.dot(nb)) >= cos_tolerance &&
+           std::abs(na.dot(b.centroid - a.centroid)) <= 2 * params.background_plane_distance;
+  };
+  for (const auto& [pair, e] : boundary) {
+    const auto a = background.find(pair.first), b = background.find(pair.second);
+    const int in_background = (a != background.end()) + (b != background.end());
+    const bool join = in_background == 2 ? coplanar(*a->second, *b->second)
+                      : in_background == 1
+                          ? coplanar(*(a != background.end() ? a : b)->second,
+                                     *pieces.at(a != background.end() ? pair.second : pair.first))
+                          : e.first >= params.merge_min_boundary &&
+                                e.second <= params.merge_max_concave_share * e.first;
+    if (join) {
+      const int ra = find(pair.first), rb = find(pair.second);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
+  for (int& c : component)
+    if (c >= 0) c = find(c);
 }
 
 // Per point, the number of points of its own cluster within radius (itself included), scaled by
@@ -275,7 +418,12 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
   s.instance.assign(frame.size(), 0);
 
   // 1. Clusters: connected same-label voxels; every labelled point joins its voxel's cluster.
-  const std::vector<int> voxel_cluster = voxel_clusters(grid, point_labels, s.clusters);
+  const VoxelSurface surface = voxel_surface(frame, grid);
+  // The supporting plane, when cut out, separates the objects from what they stand on.
+  const std::vector<char> in_plane = params.cut_support_plane ? support_plane(grid, surface, params)
+                                                              : std::vector<char>(grid.size(), 0);
+  const std::vector<int> voxel_cluster =
+      voxel_clusters(grid, point_labels, surface, in_plane, params, s.clusters);
   std::vector<int> cluster(frame.size(), -1);
   std::vector<int> labelled;
   for (std::size_t p = 0; p < frame.size(); ++p) {
@@ -287,8 +435,7 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
   }
 
   // 2. Weak connections: points whose density is far under their cluster's median.
-  const std::vector<float> density =
-      point_density(frame, labelled, cluster, params.density_radius);
+  const std::vector<float> density = point_density(frame, labelled, cluster, params.density_radius);
   std::vector<std::vector<float>> per_cluster(s.clusters);
   for (int p : labelled) per_cluster[cluster[p]].push_back(density[p]);
   std::vector<float> threshold(s.clusters, 0.0f);
@@ -318,7 +465,8 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
   s.weak_points = set_aside.size();
 
   // 3. Euclidean clustering of the dense points within each cluster.
-  std::vector<int> component = euclidean_components(frame, dense, cluster, params.cluster_tolerance);
+  std::vector<int> component =
+      euclidean_components(frame, dense, cluster, params.cluster_tolerance);
 
   // 4. Set-aside points go back to the component of the nearest dense point of their cluster,
   // looked up in their own and neighbouring voxels; a kd-tree of the cluster is the fallback.
@@ -359,25 +507,80 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
     }
   }
 
-  // 5. Components in order of their smallest point index; large ones become instances.
-  std::unordered_map<int, int> slot;
-  std::vector<std::vector<int>> members;
-  for (std::size_t p = 0; p < frame.size(); ++p) {
-    if (component[p] < 0) continue;
-    const auto [it, added] = slot.emplace(component[p], static_cast<int>(members.size()));
-    if (added) members.emplace_back();
-    members[it->second].push_back(static_cast<int>(p));
+  // 5. Components in order of their smallest point index, with their box and background flag.
+  auto group_components = [&]() {
+    std::unordered_map<int, int> slot;
+    std::vector<Candidate> out;
+    for (std::size_t p = 0; p < frame.size(); ++p) {
+      if (component[p] < 0) continue;
+      const auto [it, added] = slot.emplace(component[p], static_cast<int>(out.size()));
+      if (added) out.emplace_back();
+      out[it->second].points.push_back(static_cast<int>(p));
+    }
+    for (Candidate& c : out) {
+      c.label = point_labels[c.points[0]];
+      c.box = oriented_box(frame, c.points);
+      for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
+      c.centroid /= static_cast<double>(c.points.size());
+      c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
+                     is_background(frame, c, params);
+    }
+    return out;
+  };
+  std::vector<Candidate> components = group_components();
+
+  // 6. Optionally, neighbouring components that meet in a convex or flat boundary are merged,
+  // and coplanar pieces of the background with each other; objects never join the background.
+  if (params.merge_convex) {
+    // Pieces of the support plane count as background here, whatever their size: an object
+    // must not reach the table through a small piece of it.
+    std::map<int, const Candidate*> background, pieces;
+    for (const Candidate& c : components) {
+      std::size_t on_plane = 0;
+      for (int p : c.points) on_plane += in_plane[grid.voxel_of_point[p]];
+      pieces[component[c.points[0]]] = &c;
+      if (c.background || 2 * on_plane > c.points.size()) background[component[c.points[0]]] = &c;
+    }
+    merge_convex(grid, surface, params, background, pieces, component);
+    components = group_components();
   }
-  for (auto& m : members) {
-    if (static_cast<int>(m.size()) < params.min_candidate_points) continue;
-    Candidate c;
+
+  // 7. Small components join the large neighbour they share the most voxel edges with (two
+  // rounds, so that a fragment beside a fragment also finds a home); the rest stay unassigned.
+  if (params.absorb_small) {
+    for (int round = 0; round < 2; ++round) {
+      std::vector<int> voxel_component(grid.size(), -1);
+      std::map<int, bool> large;
+      for (const Candidate& c : components)
+        large[component[c.points[0]]] =
+            static_cast<int>(c.points.size()) >= params.min_candidate_points;
+      for (std::size_t v = 0; v < grid.size(); ++v)
+        if (!grid.points[v].empty()) voxel_component[v] = component[grid.points[v][0]];
+      std::map<int, std::map<int, int>> contact;  // small -> large -> voxel edges
+      for (std::size_t u = 0; u < grid.size(); ++u) {
+        const int a = voxel_component[u];
+        if (a < 0 || large[a]) continue;
+        for (int v : grid.neighbours[u]) {
+          const int b = voxel_component[v];
+          if (b >= 0 && b != a && large[b]) ++contact[a][b];
+        }
+      }
+      std::map<int, int> target;
+      for (const auto& [small, counts] : contact)
+        target[small] = std::max_element(counts.begin(), counts.end(), [](auto& x, auto& y) {
+                          return x.second < y.second;
+                        })->first;
+      if (target.empty()) break;
+      for (int& c : component)
+        if (c >= 0 && target.count(c)) c = target[c];
+      components = group_components();
+    }
+  }
+
+  // 8. Large components become instances.
+  for (Candidate& c : components) {
+    if (static_cast<int>(c.points.size()) < params.min_candidate_points) continue;
     c.instance = static_cast<std::uint32_t>(s.components.size() + 1);
-    c.label = point_labels[m[0]];
-    c.points = std::move(m);
-    c.box = oriented_box(frame, c.points);
-    for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
-    c.centroid /= static_cast<double>(c.points.size());
-    c.background = is_background(frame, c, params);
     for (int p : c.points) s.instance[p] = c.instance;
     s.components.push_back(std::move(c));
   }

@@ -57,7 +57,7 @@ void expect_input_error(const CliRun& r, const std::string& name, const fs::path
 }  // namespace
 
 TEST(Cli, HelpOnEveryCommand) {
-  for (const char* cmd : {"--help", "segment --help", "synth --help"}) {
+  for (const char* cmd : {"--help", "segment --help", "synth --help", "eval-seg --help"}) {
     const CliRun r = run(cmd);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
@@ -72,7 +72,9 @@ TEST(Cli, UsageErrorsExitTwo) {
         "segment " + learn0() + " --color c.png --depth d.png -o " + o.string(),
         "segment --color c.png -o " + o.string(),
         "segment --color c.png --depth d.png -o " + o.string(),
-        "segment " + learn0() + " -o " + o.string() + " --mrf-method magic"}) {
+        "segment " + learn0() + " -o " + o.string() + " --mrf-method magic",
+        "segment " + learn0() + " -o " + o.string() + " --preset magic", std::string("eval-seg"),
+        "eval-seg " + learn0(), "eval-seg " + learn0() + " " + learn0() + " --batch " + kData}) {
     EXPECT_EQ(run(args).code, 2) << args;
   }
 }
@@ -207,4 +209,92 @@ TEST(Cli, SynthWritesAGroundTruthScene) {
   ASSERT_EQ(f.label.size(), f.size());
   EXPECT_EQ(*std::max_element(f.label.begin(), f.label.end()), 6u);
   EXPECT_EQ(run("synth -o " + o.string() + " --noise -1").code, 1);
+}
+
+TEST(Cli, SegmentWritesInstancesAndCandidates) {
+  const fs::path o = kTmp / "inst", dir = kTmp / "inst-candidates";
+  fs::remove_all(dir);
+  const CliRun r =
+      run("segment " + learn0() + " -o " + o.string() + " --candidates-dir " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const proxseg::Frame f = proxseg::read_pcd(o.string() + ".pcd", "instance");
+  ASSERT_EQ(f.label.size(), f.size());
+  const nlohmann::json j = nlohmann::json::parse(slurp(o.string() + ".json"));
+  std::size_t objects = 0, background = 0;
+  for (const auto& c : j["candidates"]) {
+    const std::uint32_t id = c["id"];
+    const std::size_t points = c["points"];
+    EXPECT_EQ(static_cast<std::size_t>(std::count(f.label.begin(), f.label.end(), id)), points);
+    EXPECT_EQ(c["box"]["extent"].size(), 3u);
+    EXPECT_EQ(c["box"]["axes"].size(), 3u);
+    if (c["background"]) {
+      ++background;
+      continue;
+    }
+    ++objects;
+    const proxseg::Frame cloud =
+        proxseg::read_pcd((dir / ("candidate_" + std::to_string(id) + ".pcd")).string());
+    EXPECT_EQ(cloud.size(), points);
+    EXPECT_EQ(cloud.height, 1);
+  }
+  // learn0: two boxes on a table.
+  EXPECT_EQ(objects, 2u);
+  EXPECT_EQ(background, 1u);
+  EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), {})), objects);
+}
+
+TEST(Cli, EvalSegScoresAPredictionAndRejectsAMismatch) {
+  // The ground truth against itself is perfect.
+  CliRun r = run("eval-seg " + learn0() + " " + learn0() + " --field label --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_DOUBLE_EQ(j["objects"]["object_f"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(j["parts"]["v_measure"].get<double>(), 1.0);
+  r = run("eval-seg " + learn0() + " " + learn0() + " --field label");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("objects  1.000"), std::string::npos) << r.out;
+  // A prediction of another size: exit 1, the file named.
+  const std::string other = kData + "/pcl/milk.pcd";
+  r = run("eval-seg " + learn0() + " " + other);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("milk.pcd"), std::string::npos) << r.err;
+  // A ground truth without labels: exit 1.
+  r = run("eval-seg " + other + " " + other);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("label"), std::string::npos) << r.err;
+}
+
+TEST(Cli, EvalSegBatchWritesCsvAndSummaries) {
+  // A folder with two learn scenes (links to the real data) and an unlabelled cloud.
+  const fs::path dir = kTmp / "batch-in", out = kTmp / "batch-out";
+  fs::remove_all(dir);
+  fs::remove_all(out);
+  fs::create_directories(dir);
+  for (const char* name : {"learn0.pcd", "learn20.pcd"})
+    fs::create_symlink(kData + "/mosd/learn/" + name, dir / name);
+  fs::create_symlink(kData + "/pcl/milk.pcd", dir / "milk.pcd");
+  // Predictions read from a folder: the ground truth itself, so every score is perfect.
+  CliRun r = run("eval-seg --batch " + dir.string() + " --pred-dir " + dir.string() +
+                 " --field label -o " + out.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("[3/3]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("skipped"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["scenes"], 2);
+  EXPECT_EQ(j["skipped_unlabelled"], 1);
+  const std::string csv = slurp(out / "scenes.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+  EXPECT_NE(csv.find("learn20.pcd,stacked,predictions"), std::string::npos);
+  const std::string md = slurp(out / "summary.md");
+  for (const char* row :
+       {"| predictions | boxes | 1 | 1.000 |", "| predictions | stacked | 1 | 1.000 |",
+        "| predictions | all | 2 | 1.000 |"})
+    EXPECT_NE(md.find(row), std::string::npos) << row << "\n" << md;
+  EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["summary"].size(), 3u);
+  // Segmenting each scene (no --pred-dir): the method is named after the preset.
+  fs::remove(dir / "learn20.pcd");
+  fs::remove(dir / "milk.pcd");
+  r = run("eval-seg --batch " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| proxseg default | boxes | 1 |"), std::string::npos) << r.out;
 }

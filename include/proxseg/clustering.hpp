@@ -30,6 +30,8 @@ struct FeatureSpace {
   Eigen::VectorXd variances;  // along each axis (the global covariance there is diagonal)
 };
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
+// The same with `threads` worker threads (0 = all cores); the result does not depend on it.
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads);
 // A block of feature columns [start, start + size) and the weight it should carry.
 struct FeatureBlock {
   int start = 0, size = 0;

@@ -17,10 +17,25 @@ struct SelectionParams {
   double weak_density_ratio = 0.25;
   // Euclidean clustering of the remaining points [3.3]: points closer than this are connected.
   double cluster_tolerance = 0.01;  // metres
-  int min_candidate_points = 500;   // smaller components are not candidates (instance 0)
+  int min_candidate_points = 500;   // smaller components are not candidates
+  bool absorb_small = true;         // small components join their main large neighbour, else 0
+  // Convexity [extension, after Stein et al., LCCP]: voxel edges whose normals differ by more than
+  // the tolerance and turn towards each other are concave. split_concave cuts clusters there;
+  // merge_convex joins neighbouring components whose boundary is convex or flat (at most
+  // merge_max_concave_share of at least merge_min_boundary voxel edges concave).
+  double concavity_tolerance_deg = 10.0;
+  bool split_concave = true;
+  bool merge_convex = true;
+  double merge_max_concave_share = 0.25;
+  int merge_min_boundary = 3;
+  // Support plane [extension]: the dominant plane of voxels (same offset within
+  // background_plane_distance, normals within support_normal_tolerance_deg) is cut from the rest,
+  // so objects do not stay connected to the table they stand on.
+  bool cut_support_plane = true;
+  double support_normal_tolerance_deg = 20.0;
   // Background: a large planar component that supports the objects (table, floor, wall) is
   // reported, with its own instance id, but is not a candidate.
-  double background_min_area = 0.06;       // m^2, product of the two largest extents
+  double background_min_area = 0.06;         // m^2, product of the two largest extents
   double background_plane_distance = 0.015;  // metres from the component's best plane
   double background_inlier_ratio = 0.85;     // share of points within that distance
 };

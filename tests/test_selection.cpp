@@ -1,0 +1,182 @@
+// Selection [paper 3.3]: clusters, weak links, Euclidean split, candidates, background, boxes.
+#include <proxseg/selection.hpp>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <set>
+
+namespace {
+
+using proxseg::Frame;
+using proxseg::SelectionParams;
+
+// A cloud of sampled surfaces; label per point. Unorganized, so densities are not range-scaled.
+struct Builder {
+  Frame frame;
+  std::vector<std::uint32_t> labels;
+  void add(const Eigen::Vector3f& p, std::uint32_t label) {
+    frame.xyz.push_back(p);
+    frame.rgb.push_back({128, 128, 128});
+    labels.push_back(label);
+  }
+  // A rectangle origin + s*u + t*v, s in [0, su], t in [0, sv], sampled every `step`.
+  void patch(const Eigen::Vector3f& origin, const Eigen::Vector3f& u, const Eigen::Vector3f& v,
+             float su, float sv, float step, std::uint32_t label) {
+    for (float s = 0; s <= su + 1e-6f; s += step)
+      for (float t = 0; t <= sv + 1e-6f; t += step) add(origin + s * u + t * v, label);
+  }
+  // The outside of an axis-aligned box [lo, hi], seen from every side.
+  void box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float step, std::uint32_t label) {
+    const Eigen::Vector3f d = hi - lo, x = Eigen::Vector3f::UnitX(), y = Eigen::Vector3f::UnitY(),
+                          z = Eigen::Vector3f::UnitZ();
+    patch(lo, x, y, d.x(), d.y(), step, label);
+    patch(Eigen::Vector3f(lo.x(), lo.y(), hi.z()), x, y, d.x(), d.y(), step, label);
+    patch(lo, x, z, d.x(), d.z(), step, label);
+    patch(Eigen::Vector3f(lo.x(), hi.y(), lo.z()), x, z, d.x(), d.z(), step, label);
+    patch(lo, y, z, d.y(), d.z(), step, label);
+    patch(Eigen::Vector3f(hi.x(), lo.y(), lo.z()), y, z, d.y(), d.z(), step, label);
+  }
+  proxseg::Selection select(const SelectionParams& params = {}) {
+    frame.width = static_cast<int>(frame.xyz.size());
+    frame.height = 1;
+    const proxseg::VoxelGrid grid = proxseg::build_voxels(frame, 0.02);
+    // As in the pipeline, every point of a voxel has one label: the label of its first point.
+    std::vector<std::uint32_t> voxel_labels(frame.size());
+    for (std::size_t v = 0; v < grid.size(); ++v)
+      for (int p : grid.points[v]) voxel_labels[p] = labels[grid.points[v][0]];
+    return proxseg::select_candidates(frame, grid, voxel_labels, params);
+  }
+};
+
+SelectionParams small_objects() {
+  SelectionParams p;
+  p.min_candidate_points = 50;
+  p.split_concave = p.merge_convex = p.cut_support_plane = p.absorb_small = true;
+  return p;
+}
+
+}  // namespace
+
+TEST(Selection, SameLabelApartBecomesTwoCandidates) {
+  Builder b;
+  b.box({0, 0, 1}, {0.1f, 0.1f, 1.1f}, 0.004f, 1);
+  b.box({0.3f, 0, 1}, {0.4f, 0.1f, 1.1f}, 0.004f, 1);
+  const auto s = b.select(small_objects());
+  ASSERT_EQ(s.components.size(), 2u);
+  EXPECT_EQ(s.clusters, 2);
+  for (const auto& c : s.components) EXPECT_FALSE(c.background);
+  // Instances are numbered by smallest point index: the first box is instance 1.
+  EXPECT_EQ(s.instance.front(), 1u);
+  EXPECT_EQ(s.instance.back(), 2u);
+}
+
+TEST(Selection, DifferentLabelsTouchingStayApartWithoutMerging) {
+  Builder b;
+  b.patch({0, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.1f, 0.1f, 0.004f, 1);
+  b.patch({0.104f, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.1f, 0.1f, 0.004f,
+          2);
+  SelectionParams p = small_objects();
+  p.merge_convex = false;
+  const auto s = b.select(p);
+  EXPECT_EQ(s.components.size(), 2u);
+  // Coplanar neighbours meet in a flat boundary: with merging they become one component.
+  p.merge_convex = true;
+  EXPECT_EQ(b.select(p).components.size(), 1u);
+}
+
+TEST(Selection, WeakBridgeIsCutAndItsPointsGiveBack) {
+  // Two dense patches joined by a sparse line of points (one every 6 mm): the line is weak, the
+  // patches come apart, and the line's points join the nearest patch instead of being lost.
+  Builder b;
+  b.patch({0, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.1f, 0.1f, 0.002f, 1);
+  b.patch({0.16f, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.1f, 0.1f, 0.002f, 1);
+  for (float x = 0.106f; x < 0.157f; x += 0.006f) b.add({x, 0.05f, 1}, 1);
+  SelectionParams p = small_objects();
+  p.cluster_tolerance = 0.008;  // the bridge spacing (6 mm) would connect without the density cut
+  p.merge_convex = p.cut_support_plane = p.split_concave = false;
+  const auto s = b.select(p);
+  EXPECT_EQ(s.clusters, 1);
+  ASSERT_EQ(s.components.size(), 2u);
+  EXPECT_GT(s.weak_points, 0u);
+  std::size_t assigned = 0;
+  for (std::uint32_t i : s.instance) assigned += i != 0;
+  EXPECT_EQ(assigned, b.frame.size());
+  // Without the density test the bridge keeps them together.
+  p.weak_density_ratio = 0;
+  EXPECT_EQ(b.select(p).components.size(), 1u);
+}
+
+TEST(Selection, SmallComponentsAreNotCandidates) {
+  Builder b;
+  b.box({0, 0, 1}, {0.1f, 0.1f, 1.1f}, 0.004f, 1);
+  b.patch({0.5f, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.02f, 0.02f, 0.004f,
+          1);  // 36 points
+  SelectionParams p = small_objects();
+  p.absorb_small = false;
+  const auto s = b.select(p);
+  ASSERT_EQ(s.components.size(), 1u);
+  EXPECT_EQ(s.instance.back(), 0u);
+}
+
+TEST(Selection, TableIsBackgroundAndObjectsComeOffIt) {
+  // The sensor at the origin looks along +z at a 60 x 60 cm table 40 cm below it (plane y = 0.4,
+  // y pointing down) with a 10 cm box standing on it, everything one label and only the surfaces
+  // the sensor sees: the support plane is cut out, so the box is a candidate and the table the
+  // background.
+  Builder b;
+  const Eigen::Vector3f x = Eigen::Vector3f::UnitX(), y = Eigen::Vector3f::UnitY(),
+                        z = Eigen::Vector3f::UnitZ();
+  for (float s = 0; s <= 0.6f; s += 0.005f)
+    for (float t = 0; t <= 0.6f; t += 0.005f) {
+      const Eigen::Vector3f p(-0.3f + s, 0.4f, 0.7f + t);
+      if (std::abs(p.x()) > 0.05f || p.z() < 0.95f || p.z() > 1.05f) b.add(p, 1);
+    }
+  b.patch({-0.05f, 0.3f, 0.95f}, x, y, 0.1f, 0.1f, 0.004f, 1);  // front face
+  b.patch({-0.05f, 0.3f, 0.95f}, x, z, 0.1f, 0.1f, 0.004f, 1);  // top face
+  const auto s = b.select(small_objects());
+  int background = 0, objects = 0;
+  for (const auto& c : s.components) {
+    if (c.background) {
+      ++background;
+      EXPECT_NEAR(c.box.extent[0], 0.6, 0.05);
+      EXPECT_NEAR(c.box.extent[2], 0.0, 0.01);
+    } else {
+      ++objects;
+      EXPECT_NEAR(c.centroid.y(), 0.33, 0.03) << c.points.size() << " " << c.centroid.transpose();
+    }
+  }
+  EXPECT_EQ(background, 1);
+  EXPECT_EQ(objects, 1);
+  // Without the plane cut and the concavity split (the paper's selection), they are one cluster.
+  SelectionParams p = small_objects();
+  p.cut_support_plane = false;
+  p.split_concave = false;
+  EXPECT_EQ(b.select(p).components.size(), 1u);
+}
+
+TEST(Selection, OrientedBoxOfABox) {
+  Builder b;
+  b.box({0, 0, 1}, {0.2f, 0.1f, 1.05f}, 0.005f, 1);
+  b.frame.width = static_cast<int>(b.frame.size());
+  b.frame.height = 1;
+  std::vector<int> all(b.frame.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const auto box = proxseg::oriented_box(b.frame, all);
+  EXPECT_NEAR(box.extent[0], 0.2, 1e-4);
+  EXPECT_NEAR(box.extent[1], 0.1, 1e-4);
+  EXPECT_NEAR(box.extent[2], 0.05, 1e-4);
+  EXPECT_NEAR((box.centre - Eigen::Vector3d(0.1, 0.05, 1.025)).norm(), 0, 1e-4);
+  EXPECT_NEAR(box.axes.determinant(), 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(box.axes.col(0).x()), 1.0, 1e-6);
+}
+
+TEST(Selection, InvalidAndUnlabelledPointsStayZero) {
+  Builder b;
+  b.box({0, 0, 1}, {0.1f, 0.1f, 1.1f}, 0.004f, 1);
+  b.add({NAN, NAN, NAN}, 0);
+  const auto s = b.select(small_objects());
+  EXPECT_EQ(s.instance.back(), 0u);
+  EXPECT_EQ(s.components.size(), 1u);
+}
