@@ -51,6 +51,55 @@ void normalise(Eigen::Ref<Eigen::VectorXf> block) {
   if (sum > 0) block /= sum;
 }
 
+// Bin (inclination * 10 + azimuth) of a finite unit normal in the 10x10 angle histogram: the
+// reference definition, with acos and atan2.
+int normal_bin_exact(const Eigen::Vector3f& n) {
+  const double theta = std::acos(std::clamp(static_cast<double>(n.z()), -1.0, 1.0));
+  const double phi = std::atan2(static_cast<double>(n.y()), static_cast<double>(n.x()));
+  return bin_of(theta / kPi, kHistogramBins) * kHistogramBins +
+         bin_of((phi + kPi) / (2 * kPi), kHistogramBins);
+}
+
+// The same bin without acos and atan2: the bin edges are fixed angles, so the bin follows from
+// comparing z with the cosines of the inclination edges and (x, y) with the azimuth edge
+// directions. The reference's rounding moves an angle by less than 1e-14 rad; whenever the normal
+// lies within 1e-9 (rad, or in z) of an edge the reference definition decides instead, so the bin
+// is always the reference's.
+int normal_bin(const Eigen::Vector3f& n) {
+  constexpr int kBins = kHistogramBins;
+  constexpr double kMargin = 1e-9;
+  struct Edges {
+    double cos_theta[kBins + 1];                    // cos(k pi / 10): inclination edges as z
+    double cos_phi[kBins + 1], sin_phi[kBins + 1];  // azimuth edges -pi + k pi / 5
+    Edges() {
+      for (int k = 0; k <= kBins; ++k) {
+        cos_theta[k] = std::cos(k * kPi / kBins);
+        cos_phi[k] = std::cos(-kPi + k * 2 * kPi / kBins);
+        sin_phi[k] = std::sin(-kPi + k * 2 * kPi / kBins);
+      }
+    }
+  };
+  static const Edges edges;
+  const double x = n.x(), y = n.y(), z = std::clamp(static_cast<double>(n.z()), -1.0, 1.0);
+  int theta_bin = 0;  // theta >= k pi / 10 exactly when z <= cos(k pi / 10)
+  for (int k = 1; k < kBins; ++k) {
+    if (std::abs(z - edges.cos_theta[k]) <= kMargin) return normal_bin_exact(n);
+    theta_bin += z < edges.cos_theta[k];
+  }
+  // Azimuth: y < 0 is bins 0..4, y >= 0 bins 5..9 (y = 0 is the edge at 0 and at +-pi); within a
+  // half, phi >= edge k exactly when sin(phi - edge) = y cos(edge) - x sin(edge) >= 0.
+  const double r2 = x * x + y * y;
+  if (!(r2 > 1e-12) || y * y <= kMargin * kMargin * r2) return normal_bin_exact(n);
+  const int first = y < 0 ? 1 : kBins / 2 + 1;
+  int phi_bin = first - 1;
+  for (int k = first; k < first + kBins / 2 - 1; ++k) {
+    const double side = y * edges.cos_phi[k] - x * edges.sin_phi[k];
+    if (side * side <= kMargin * kMargin * r2) return normal_bin_exact(n);
+    phi_bin += side > 0;
+  }
+  return theta_bin * kBins + phi_bin;
+}
+
 // exp(-(du2 + dv2) / denom) rounded to float, bit for bit as the direct expression gives it, with
 // the exponential of a sum computed as a product of two exponentials (one per column, one per
 // row) instead of one call per pixel. The product differs from the direct value by far less than
@@ -167,20 +216,61 @@ Eigen::VectorXf shape_feature(const std::vector<Eigen::Vector3f>& points,
   }
   // 10x10 histogram of the normals' polar angles: inclination from the optical axis in [0, pi]
   // and azimuth in [-pi, pi).
-  for (const auto& n : normals) {
-    if (!n.allFinite()) continue;
-    const double theta = std::acos(std::clamp(static_cast<double>(n.z()), -1.0, 1.0));
-    const double phi = std::atan2(static_cast<double>(n.y()), static_cast<double>(n.x()));
-    f(4 + bin_of(theta / kPi, kHistogramBins) * kHistogramBins +
-      bin_of((phi + kPi) / (2 * kPi), kHistogramBins)) += 1;
-  }
+  for (const auto& n : normals)
+    if (n.allFinite()) f(4 + normal_bin(n)) += 1;
   normalise(f.tail(100));
   return f;
 }
 
 namespace {
 
-GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads) {
+// Bin of a magnitude m under the upper edge of its filter: the reference definition.
+int texture_bin(float m, float upper) {
+  return upper > 0 ? bin_of(m / upper, kHistogramBins) : 0;
+}
+
+// The bin edges of one filter as magnitudes, so that binning a pixel takes comparisons instead of
+// a division: texture_bin(m) >= k exactly when m >= edge[k - 1], for m < exact_above (beyond
+// that, where the quotient could leave the int range, the division is done). texture_bin is
+// monotone in m there (the float quotient is monotone), so each edge is the first float for
+// which it reaches k: found by bisection over the float bit patterns, which are in the order of
+// the values for non-negative floats.
+struct TextureEdges {
+  std::array<float, kHistogramBins - 1> edge;
+  float upper, exact_above;
+  explicit TextureEdges(float upper_edge) : upper(upper_edge) {
+    const float inf = std::numeric_limits<float>::infinity();
+    exact_above = upper > 0 ? static_cast<float>(static_cast<double>(upper) * 1e8) : inf;
+    std::uint32_t end;  // bit pattern of exact_above: the search range is [0, end)
+    std::memcpy(&end, &exact_above, sizeof end);
+    for (int k = 1; k < kHistogramBins; ++k) {
+      std::uint32_t lo = 0, hi = end;  // first pattern in [lo, hi) reaching bin k, or hi
+      while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        float m;
+        std::memcpy(&m, &mid, sizeof m);
+        if (texture_bin(m, upper) >= k)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      std::memcpy(&edge[k - 1], &lo, sizeof lo);
+    }
+  }
+  int bin(float m) const {
+    if (!(m < exact_above)) return texture_bin(m, upper);
+    int b = 0;
+    for (const float e : edge) b += m >= e;
+    return b;
+  }
+};
+
+// The Gabor bank of the frame. With `bins`, (*bins)[filter][pixel] is also the texture bin of
+// every pixel for every filter (what texture_feature computes per point); with keep_magnitude
+// false the magnitudes are then not kept (the bank has only the edges): a quarter of the memory.
+GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads,
+                     bool keep_magnitude = true,
+                     std::vector<std::vector<std::uint8_t>>* bins = nullptr) {
   GaborBank bank;
   if (!frame.organized()) return bank;
   bank.width = frame.width;
@@ -201,34 +291,47 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int thread
   levels[0] = grey;
   for (int s = 1; s < kGaborScales; ++s) cv::pyrDown(levels[s - 1], levels[s]);
   const int filters = kGaborScales * kGaborOrientations;
-  bank.magnitude.assign(filters, {});
+  bank.magnitude.assign(keep_magnitude ? filters : 0, {});
   bank.upper_edge.assign(filters, 0.f);
+  if (bins) bins->assign(filters, {});
   const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
   std::vector<cv::Mat> spectra(kGaborScales);
-  // The 4 spectra, then the 24 filters (largest level first), are independent tasks; each writes
-  // only its own outputs, so the bank does not depend on the number of threads.
+  // The pixels whose magnitudes set the bin edges: every 4th pixel, if valid.
+  std::vector<int> sampled;
+  sampled.reserve(n / 4 + 1);
+  for (std::size_t i = 0; i < n; i += 4)
+    if (frame.valid(i)) sampled.push_back(static_cast<int>(i));
+      // The 4 spectra, then the 24 filters (largest level first), are independent tasks; each
+      // writes only its own outputs, so the bank does not depend on the number of threads.
 #pragma omp parallel num_threads(nthreads)
   {
 #pragma omp for schedule(dynamic, 1)
     for (int s = 0; s < kGaborScales; ++s) spectra[s] = level_spectrum(levels[s]);
     GaborWork work;
-    cv::Mat level_magnitude;
+    cv::Mat level_magnitude, full;
     std::vector<float> sample;
 #pragma omp for schedule(dynamic, 1)
     for (int filter = 0; filter < filters; ++filter) {
       const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
-      gabor_magnitude(spectra[s], levels[s].size(), o, params, work, level_magnitude);
-      // Back to full resolution, straight into the bank.
-      auto& m = bank.magnitude[filter];
-      m.resize(n);
-      cv::Mat full(grey.size(), CV_32F, m.data());
-      cv::resize(level_magnitude, full, grey.size(), 0, 0, cv::INTER_LINEAR);
-      CV_Assert(full.data == reinterpret_cast<uchar*>(m.data()));
+      // At full resolution, in the bank or in a buffer of this thread (level 0 needs no resizing).
+      if (keep_magnitude) {
+        bank.magnitude[filter].resize(n);
+        full = cv::Mat(grey.size(), CV_32F, bank.magnitude[filter].data());
+      } else {
+        full.create(grey.size(), CV_32F);
+      }
+      uchar* const data = full.data;
+      if (s == 0) {
+        gabor_magnitude(spectra[s], levels[s].size(), o, params, work, full);
+      } else {
+        gabor_magnitude(spectra[s], levels[s].size(), o, params, work, level_magnitude);
+        cv::resize(level_magnitude, full, grey.size(), 0, 0, cv::INTER_LINEAR);
+      }
+      CV_Assert(full.data == data && full.isContinuous());
+      const float* m = full.ptr<float>(0);
       // Fixed bin edges per filter over the frame: [0, quantile] in 10 bins, over valid points.
-      sample.clear();
-      sample.reserve(n / 4 + 1);
-      for (std::size_t i = 0; i < n; i += 4)
-        if (frame.valid(i)) sample.push_back(m[i]);
+      sample.resize(sampled.size());
+      for (std::size_t j = 0; j < sampled.size(); ++j) sample[j] = m[sampled[j]];
       if (!sample.empty()) {
         const std::size_t q =
             std::min(sample.size() - 1,
@@ -236,77 +339,34 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int thread
         std::nth_element(sample.begin(), sample.begin() + q, sample.end());
         bank.upper_edge[filter] = sample[q];
       }
+      if (bins) {
+        const TextureEdges edges(bank.upper_edge[filter]);
+        auto& b = (*bins)[filter];
+        b.resize(n);
+        // Comparisons for all pixels (vectorised), then the division for the few they miss.
+        for (std::size_t i = 0; i < n; ++i) {
+          const float v = m[i];
+          int k = 0;
+          for (const float e : edges.edge) k += v >= e;
+          b[i] = static_cast<std::uint8_t>(k);
+        }
+        for (std::size_t i = 0; i < n; ++i)
+          if (!(m[i] < edges.exact_above))
+            b[i] = static_cast<std::uint8_t>(texture_bin(m[i], edges.upper));
+      }
     }
   }
   return bank;
 }
 
-}  // namespace
-
-GaborBank gabor_bank(const Frame& frame, const FeatureParams& params) {
-  return gabor_bank(frame, params, 0);
-}
-
-namespace {
-
-// Bin of a magnitude m under the upper edge of its filter: the reference definition.
-int texture_bin(float m, float upper) {
-  return upper > 0 ? bin_of(m / upper, kHistogramBins) : 0;
-}
-
-// The bin edges of one filter as magnitudes, so that binning a point takes comparisons instead of
-// a division: texture_bin(m) >= k exactly when m >= edge[k - 1], for m < exact_above (beyond
-// that, where the quotient could leave the int range, the division is done). texture_bin is
-// monotone in m there (the float quotient is monotone), so each edge is the first float for
-// which it reaches k: found by bisection over the float bit patterns, which are in the order of
-// the values for non-negative floats.
-struct TextureEdges {
-  std::array<float, kHistogramBins - 1> edge;
-  float exact_above;
-  explicit TextureEdges(float upper) {
-    const float inf = std::numeric_limits<float>::infinity();
-    exact_above = upper > 0 ? static_cast<float>(static_cast<double>(upper) * 1e8) : inf;
-    std::uint32_t end;  // bit pattern of exact_above: the search range is [0, end)
-    std::memcpy(&end, &exact_above, sizeof end);
-    for (int k = 1; k < kHistogramBins; ++k) {
-      std::uint32_t lo = 0, hi = end;  // first pattern in [lo, hi) reaching bin k, or hi
-      while (lo < hi) {
-        const std::uint32_t mid = lo + (hi - lo) / 2;
-        float m;
-        std::memcpy(&m, &mid, sizeof m);
-        if (texture_bin(m, upper) >= k)
-          hi = mid;
-        else
-          lo = mid + 1;
-      }
-      std::memcpy(&edge[k - 1], &lo, sizeof lo);
-    }
-  }
-  int bin(float m, float upper) const {
-    if (!(m < exact_above)) return texture_bin(m, upper);
-    int b = 0;
-    for (const float e : edge) b += m >= e;
-    return b;
-  }
-};
-
-std::vector<TextureEdges> texture_edges(const GaborBank& bank) {
-  std::vector<TextureEdges> edges;
-  for (const float upper : bank.upper_edge) edges.emplace_back(upper);
-  return edges;
-}
-
-// Texture block of one voxel (see texture_feature) with the bank's edges already computed.
-Eigen::VectorXf texture_histograms(const GaborBank& bank, const std::vector<TextureEdges>& edges,
+// Texture block of one voxel, as texture_feature gives it, from the bins of its pixels.
+Eigen::VectorXf texture_histograms(const std::vector<std::vector<std::uint8_t>>& bins,
                                    const std::vector<int>& pixels) {
   Eigen::VectorXf f = Eigen::VectorXf::Zero(kTextureDims);
-  if (bank.magnitude.empty()) return f;
-  for (std::size_t filter = 0; filter < bank.magnitude.size(); ++filter) {
-    const float upper = bank.upper_edge[filter];
-    const TextureEdges& e = edges[filter];
-    const float* magnitude = bank.magnitude[filter].data();
+  for (std::size_t filter = 0; filter < bins.size(); ++filter) {
+    const std::uint8_t* bin = bins[filter].data();
     int count[kHistogramBins] = {};
-    for (int p : pixels) ++count[e.bin(magnitude[p], upper)];
+    for (int p : pixels) ++count[bin[p]];
     auto block = f.segment(static_cast<int>(filter) * kHistogramBins, kHistogramBins);
     for (int b = 0; b < kHistogramBins; ++b) block(b) = static_cast<float>(count[b]);
     normalise(block);
@@ -316,8 +376,21 @@ Eigen::VectorXf texture_histograms(const GaborBank& bank, const std::vector<Text
 
 }  // namespace
 
+GaborBank gabor_bank(const Frame& frame, const FeatureParams& params) {
+  return gabor_bank(frame, params, 0);
+}
+
 Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& pixels) {
-  return texture_histograms(bank, texture_edges(bank), pixels);
+  // One voxel: the division per point is cheaper than computing the bank's edges.
+  Eigen::VectorXf f = Eigen::VectorXf::Zero(kTextureDims);
+  if (bank.magnitude.empty()) return f;
+  for (std::size_t filter = 0; filter < bank.magnitude.size(); ++filter) {
+    const float upper = bank.upper_edge[filter];
+    auto block = f.segment(static_cast<int>(filter) * kHistogramBins, kHistogramBins);
+    for (int p : pixels) block(texture_bin(bank.magnitude[filter][p], upper)) += 1;
+    normalise(block);
+  }
+  return f;
 }
 
 namespace {
@@ -362,11 +435,18 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   cv::Mat sx, sm;
   cv::boxFilter(xyz, sx, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below).
+  std::vector<Eigen::Vector3f> smooth(static_cast<std::size_t>(w) * h);
+#pragma omp parallel for schedule(static) num_threads(nthreads)
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      if (mask.at<float>(v, u) > 0) {
+        const cv::Vec3f q = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
+        smooth[static_cast<std::size_t>(v) * w + u] = Eigen::Vector3f(q[0], q[1], q[2]);
+      }
   auto at = [&](int u, int v, Eigen::Vector3f& p) {
-    if (u < 0 || v < 0 || u >= w || v >= h || !frame.valid(v * w + u)) return false;
-    const float m = sm.at<float>(v, u);
-    const cv::Vec3f q = sx.at<cv::Vec3f>(v, u) / m;
-    p = Eigen::Vector3f(q[0], q[1], q[2]);
+    if (u < 0 || v < 0 || u >= w || v >= h || !(mask.at<float>(v, u) > 0)) return false;
+    p = smooth[static_cast<std::size_t>(v) * w + u];
     return true;
   };
 #pragma omp parallel for schedule(static) num_threads(nthreads)
@@ -403,15 +483,19 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
 Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
                                const std::vector<int>& voxels, const FeatureParams& params,
                                int threads) {
-  Eigen::MatrixXf f = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(voxels.size()), kFeatureDims);
+  // Rows are filled in a row-major matrix (a column-major row is 454 scattered writes).
+  Eigen::Matrix<float, Eigen::Dynamic, kFeatureDims, Eigen::RowMajor> f =
+      Eigen::Matrix<float, Eigen::Dynamic, kFeatureDims, Eigen::RowMajor>::Zero(
+          static_cast<Eigen::Index>(voxels.size()), kFeatureDims);
   const bool shape = params.use_shape && params.shape_weight > 0;
   const bool texture = params.use_texture && params.texture_weight > 0 && frame.organized();
   const bool colour = params.use_colour && params.colour_weight > 0;
   const std::vector<Eigen::Vector3f> normals =
       shape ? point_normals(frame, params, threads) : std::vector<Eigen::Vector3f>{};
-  const GaborBank bank = texture ? gabor_bank(frame, params, threads) : GaborBank{};
-  const std::vector<TextureEdges> edges = texture_edges(bank);
-  // Each row is written by one iteration only: the result does not depend on the thread count.
+  // Texture: the bin of every pixel for every filter (the magnitudes themselves are not needed).
+  std::vector<std::vector<std::uint8_t>> texture_bins;
+  if (texture) gabor_bank(frame, params, threads, false, &texture_bins);
+    // Each row is written by one iteration only: the result does not depend on the thread count.
 #pragma omp parallel for schedule(dynamic, 64) \
     num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (std::size_t row = 0; row < voxels.size(); ++row) {
@@ -425,7 +509,7 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
     }
     if (texture)
       f.row(row).segment(kColourDims, kTextureDims) =
-          texture_histograms(bank, edges, pts) * static_cast<float>(params.texture_weight);
+          texture_histograms(texture_bins, pts) * static_cast<float>(params.texture_weight);
     if (shape) {
       std::vector<Eigen::Vector3f> p, n;
       p.reserve(pts.size());
@@ -438,7 +522,7 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
           shape_feature(p, n) * static_cast<float>(params.shape_weight);
     }
   }
-  return f;
+  return Eigen::MatrixXf(f);
 }
 
 }  // namespace proxseg

@@ -33,35 +33,44 @@ class CellMap {
  public:
   explicit CellMap(std::size_t n = 0) {
     std::size_t size = 16;
-    while (size < 2 * n) size *= 2;
+    while (size < 4 * n) size *= 2;  // load under 1/4: a miss usually ends at the first slot
     mask_ = size - 1;
-    keys_.resize(size);
-    values_.assign(size, -1);
+    slots_.assign(size, Slot{});
   }
   void insert(const CellKey& k, int value) {
     std::size_t i = hash(k) & mask_;
-    while (values_[i] >= 0) i = (i + 1) & mask_;
-    keys_[i] = k;
-    values_[i] = value;
+    while (slots_[i].value >= 0) i = (i + 1) & mask_;
+    slots_[i] = {k, value};
   }
   int find(const CellKey& k) const {
     for (std::size_t i = hash(k) & mask_;; i = (i + 1) & mask_) {
-      if (values_[i] < 0) return -1;
-      if (keys_[i] == k) return values_[i];
+      const Slot& s = slots_[i];
+      if (s.value < 0) return -1;
+      if (s.key == k) return s.value;
     }
   }
 
  private:
+  struct Slot {
+    CellKey key{0, 0, 0, 0};
+    int value = -1;
+  };
   static std::size_t hash(const CellKey& k) {
     std::uint64_t h = static_cast<std::uint32_t>(k.group) * 0x9E3779B97F4A7C15ull;
     h ^= static_cast<std::uint32_t>(k.x) * 0xBF58476D1CE4E5B9ull;
     h ^= static_cast<std::uint32_t>(k.y) * 0x94D049BB133111EBull;
     h ^= static_cast<std::uint32_t>(k.z) * 0xD6E8FEB86659FD93ull;
-    return static_cast<std::size_t>(h ^ (h >> 29));
+    // MurmurHash3's finaliser: the products above leave the low bits (the ones the mask keeps)
+    // poorly mixed, which made probe chains long.
+    h ^= h >> 33;
+    h *= 0xFF51AFD7ED558CCDull;
+    h ^= h >> 33;
+    h *= 0xC4CEB9FE1A85EC53ull;
+    h ^= h >> 33;
+    return static_cast<std::size_t>(h);
   }
   std::size_t mask_;
-  std::vector<CellKey> keys_;
-  std::vector<int> values_;
+  std::vector<Slot> slots_;  // key and value side by side: one cache line per probe
 };
 
 class CellIndex {
@@ -337,27 +346,42 @@ std::vector<int> euclidean_components(const Frame& frame, const std::vector<int>
   const float t2 = static_cast<float>(tolerance * tolerance);
   const std::vector<int>& order = index.order();
   const int reach = static_cast<int>(std::ceil(tolerance / side));
-  // Links between cells are found in parallel, then merged serially: the components do not
-  // depend on the order of the unions (the smaller root wins).
-  std::vector<std::vector<int>> links(index.cells());
-#pragma omp parallel for schedule(dynamic, 64)
+  // Per cell, the bounding box of its points: two cells whose boxes are farther apart than t
+  // cannot link, two whose boxes are within t link without looking at points.
+  std::vector<Eigen::Vector3f> lo(index.cells()), hi(index.cells());
+  for (std::size_t c = 0; c < index.cells(); ++c) {
+    lo[c] = hi[c] = frame.xyz[order[index.begin(c)]];
+    for (int i = index.begin(c) + 1; i < index.end(c); ++i) {
+      lo[c] = lo[c].cwiseMin(frame.xyz[order[i]]);
+      hi[c] = hi[c].cwiseMax(frame.xyz[order[i]]);
+    }
+  }
+  // Neighbour offsets nearest first: once the near cells are linked, the far ones are usually in
+  // the same set already and are skipped without a look at their points.
+  std::vector<Eigen::Vector3i> offsets;
+  for (int dz = -reach; dz <= reach; ++dz)
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx)
+        if (dx || dy || dz) offsets.emplace_back(dx, dy, dz);
+  std::stable_sort(offsets.begin(), offsets.end(),
+                   [](const auto& a, const auto& b) { return a.squaredNorm() < b.squaredNorm(); });
+  UnionFind sets(index.cells());
   for (int c = 0; c < static_cast<int>(index.cells()); ++c) {
     const CellKey k = index.cell(c);
-    for (int dz = -reach; dz <= reach; ++dz)
-      for (int dy = -reach; dy <= reach; ++dy)
-        for (int dx = -reach; dx <= reach; ++dx) {
-          const int n = index.find({k.group, k.x + dx, k.y + dy, k.z + dz});
-          if (n <= c) continue;
-          bool linked = false;
-          for (int i = index.begin(c); i < index.end(c) && !linked; ++i)
-            for (int j = index.begin(n); j < index.end(n) && !linked; ++j)
-              linked = (frame.xyz[order[i]] - frame.xyz[order[j]]).squaredNorm() <= t2;
-          if (linked) links[c].push_back(n);
-        }
+    for (const Eigen::Vector3i& d : offsets) {
+      const int n = index.find({k.group, k.x + d.x(), k.y + d.y(), k.z + d.z()});
+      if (n <= c || sets.find(n) == sets.find(c)) continue;
+      const Eigen::Vector3f gap =
+          (lo[n] - hi[c]).cwiseMax(lo[c] - hi[n]).cwiseMax(Eigen::Vector3f::Zero());
+      if (gap.squaredNorm() > t2) continue;
+      const Eigen::Vector3f span = hi[c].cwiseMax(hi[n]) - lo[c].cwiseMin(lo[n]);
+      bool linked = span.squaredNorm() <= t2;
+      for (int i = index.begin(c); i < index.end(c) && !linked; ++i)
+        for (int j = index.begin(n); j < index.end(n) && !linked; ++j)
+          linked = (frame.xyz[order[i]] - frame.xyz[order[j]]).squaredNorm() <= t2;
+      if (linked) sets.unite(c, n);
+    }
   }
-  UnionFind sets(index.cells());
-  for (std::size_t c = 0; c < index.cells(); ++c)
-    for (int n : links[c]) sets.unite(static_cast<int>(c), n);
   std::vector<int> component(frame.size(), -1);
   for (std::size_t c = 0; c < index.cells(); ++c)
     for (int i = index.begin(c); i < index.end(c); ++i) component[order[i]] = sets.find(c);
