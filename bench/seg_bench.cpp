@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -90,6 +91,7 @@ int main(int argc, char** argv) {
   for (auto& [name, p] : presets) p.threads = threads;
 
   std::map<std::string, std::map<std::string, double>> stage_ms;  // preset -> stage -> sum
+  std::vector<std::string> stages;                                 // in pipeline order
   std::map<std::string, Table1> table1;  // "paper k-means", "paper k-means+MRF", ...
   std::vector<proxseg::SceneScores> scores;
 
@@ -98,7 +100,10 @@ int main(int argc, char** argv) {
   for (const std::string name : {"paper", "default"})
     methods.emplace_back("proxseg " + name, [&, name](const Frame& f) {
       const proxseg::SegmentResult r = proxseg::segment(f, presets[name]);
-      for (const auto& [stage, ms] : r.times_ms) stage_ms[name][stage] += ms;
+      for (const auto& [stage, ms] : r.times_ms) {
+        stage_ms[name][stage] += ms;
+        if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
+      }
       const auto truth = proxseg::truth_objects(f);
       const auto km = proxseg::score_segmentation(truth, r.point_labels_kmeans, {1});
       const auto mrf = proxseg::score_segmentation(truth, r.point_labels, {1});
