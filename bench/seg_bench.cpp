@@ -10,11 +10,11 @@
 #include <proxseg/pipeline.hpp>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
   for (auto& [name, p] : presets) p.threads = threads;
 
   std::map<std::string, std::map<std::string, double>> stage_ms;  // preset -> stage -> sum
-  std::vector<std::string> stages;                                 // in pipeline order
+  std::vector<std::string> stages;                                // in pipeline order
   std::map<std::string, Table1> table1;  // "paper k-means", "paper k-means+MRF", ...
   std::vector<proxseg::SceneScores> scores;
 

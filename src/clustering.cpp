@@ -79,9 +79,10 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
       for (int b = 0; b <= a; ++b) cov(a, b) = (s(a, b) - mean(b) * sum(a)) / (n - 1.0);
   } else {
     Eigen::MatrixXd centred(n, d);
-    for (int a = 0; a < d; ++a)
+    for (int a = 0; a < d; ++a) {
       centred.col(a) = features.col(cols[a]).cast<double>().array() - mean(a);
-      // Panel p: columns [b0, b1) of the lower triangle, rows b0..d-1.
+    }
+    // Panel p: columns [b0, b1) of the lower triangle, rows b0..d-1.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
     for (int p = 0; p < panels; ++p) {
       const int b0 = p * kPanel, w = std::min(d, b0 + kPanel) - b0;
@@ -142,7 +143,7 @@ TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
     }
     while (end > 0 && sub[end - 1] == 0) --end;
     if (end <= 0) break;
-    if (++iter > max_iterations) throw std::runtime_error("principal axes: no convergence");
+    if (++iter > max_iterations) break;  // as Eigen: keep what there is (never seen)
     Eigen::Index start = end - 1;
     while (start > 0 && sub[start - 1] != 0) --start;
     // One implicit QR step with Wilkinson shift on the unreduced block [start, end].
@@ -248,7 +249,17 @@ void balance_blocks(Eigen::MatrixXf& features, const std::vector<FeatureBlock>& 
 }
 
 Eigen::MatrixXd project(const FeatureSpace& space, const Eigen::MatrixXf& features) {
-  return (features.cast<double>().rowwise() - space.mean.transpose()) * space.axes;
+  // By blocks of rows: the centred double copy of the whole matrix (10 MB for 3000 voxels) would
+  // cost more in fresh memory than the product itself.
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::MatrixXd x(features.rows(), space.axes.cols());
+  Eigen::MatrixXd centred;
+  for (Eigen::Index r = 0; r < features.rows(); r += kBlock) {
+    const Eigen::Index m = std::min(kBlock, features.rows() - r);
+    centred = features.middleRows(r, m).cast<double>().rowwise() - space.mean.transpose();
+    x.middleRows(r, m).noalias() = centred * space.axes;
+  }
+  return x;
 }
 
 double chi_square_quantile(double alpha, int dof) {

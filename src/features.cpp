@@ -102,10 +102,10 @@ int normal_bin(const Eigen::Vector3f& n) {
 
 // exp(-(du2 + dv2) / denom) rounded to float, bit for bit as the direct expression gives it, with
 // the exponential of a sum computed as a product of two exponentials (one per column, one per
-// row) instead of one call per pixel. The product differs from the direct value by far less than
-// 1e-12 relative; it is used only when it lies further than that from a midpoint between two
-// floats, so that both round to the same float. Otherwise (a few pixels in a million) the direct
-// expression is evaluated.
+// row) instead of one call per pixel. For an argument below 1000 in magnitude the two differ by
+// less than 5e-13 relative (a few ulps of the arguments and of exp); the product is used only when
+// it lies further than 1e-12 relative from a midpoint between two floats, so that both round to
+// the same float. Otherwise (a few pixels in a million) the direct expression is evaluated.
 float gaussian_factor(double eu, double ev, double du2, double dv2, double denom) {
   constexpr double kTolerance = 1e-12;
   const double y = eu * ev;
@@ -140,7 +140,7 @@ cv::Mat level_spectrum(const cv::Mat& grey) {
 // complex Gabor kernel, so the inverse transform is the complex response. `work` holds buffers
 // reused between calls of one thread.
 struct GaborWork {
-  cv::Mat filtered, response, planes[2];
+  cv::Mat filtered, planes[2];
   std::vector<double> du2, dv2, eu, ev;
 };
 void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, const FeatureParams& params,
@@ -172,8 +172,8 @@ void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, const Featur
     for (int c = 0; c < cols; ++c)
       dst[c] = in[c] * gaussian_factor(work.eu[c], work.ev[r], work.du2[c], work.dv2[r], denom);
   }
-  cv::idft(work.filtered, work.response, cv::DFT_COMPLEX_OUTPUT | cv::DFT_SCALE);
-  cv::split(work.response(cv::Rect(0, 0, size.width, size.height)), work.planes);
+  cv::idft(work.filtered, work.filtered, cv::DFT_COMPLEX_OUTPUT | cv::DFT_SCALE);  // in place
+  cv::split(work.filtered(cv::Rect(0, 0, size.width, size.height)), work.planes);
   cv::magnitude(work.planes[0], work.planes[1], magnitude);
 }
 
@@ -263,18 +263,66 @@ struct TextureEdges {
     for (const float e : edge) b += m >= e;
     return b;
   }
+  // count[b] += the pixels of `pixels` in bin b. bin(m) is the number of edges <= m, so bin b
+  // holds (edges <= m reached b) - (reached b + 1): counting m >= edge[k] for every k needs no
+  // scattered increments (and vectorises).
+  void histogram(const float* magnitude, const std::vector<int>& pixels, int* count) const {
+    int reached[kHistogramBins - 1] = {};
+    int compared = 0;
+    for (const int p : pixels) {
+      const float m = magnitude[p];
+      if (!(m < exact_above)) {
+        ++count[texture_bin(m, upper)];
+        continue;
+      }
+      ++compared;
+      for (int k = 0; k < kHistogramBins - 1; ++k) reached[k] += m >= edge[k];
+    }
+    count[0] += compared - reached[0];
+    for (int b = 1; b < kHistogramBins - 1; ++b) count[b] += reached[b - 1] - reached[b];
+    count[kHistogramBins - 1] += reached[kHistogramBins - 2];
+  }
 };
 
-// The Gabor bank of the frame. With `bins`, (*bins)[filter][pixel] is also the texture bin of
-// every pixel for every filter (what texture_feature computes per point); with keep_magnitude
-// false the magnitudes are then not kept (the bank has only the edges): a quarter of the memory.
-GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads,
-                     bool keep_magnitude = true,
-                     std::vector<std::vector<std::uint8_t>>* bins = nullptr) {
-  GaborBank bank;
-  if (!frame.organized()) return bank;
-  bank.width = frame.width;
-  bank.height = frame.height;
+// The value std::nth_element would put at position q of `values` (which it may reorder). Magnitudes
+// are non-negative floats, whose bit patterns sort as their values: the top 12 bits of the
+// patterns narrow the search to one bucket of candidates, and nth_element runs on those only.
+// Anything else (NaN, negative or -0) goes to nth_element on all values.
+float order_statistic(std::vector<float>& values, std::size_t q, std::vector<float>& candidates) {
+  constexpr int kShift = 20;  // 32 - 12 bits
+  std::uint32_t count[(0x7f800000u >> kShift) + 1] = {};
+  for (const float v : values) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    if (bits > 0x7f800000u) {  // NaN or sign bit set
+      std::nth_element(values.begin(), values.begin() + q, values.end());
+      return values[q];
+    }
+    ++count[bits >> kShift];
+  }
+  std::uint32_t bucket = 0;
+  std::size_t below = 0;
+  while (below + count[bucket] <= q) below += count[bucket++];
+  candidates.clear();
+  for (const float v : values) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    if (bits >> kShift == bucket) candidates.push_back(v);
+  }
+  std::nth_element(candidates.begin(), candidates.begin() + (q - below), candidates.end());
+  return candidates[q - below];
+}
+
+// Runs the 24 Gabor filters of an organized frame on `threads` threads and sets their upper bin
+// edges; for each filter, the thread that computed it calls consume(filter, magnitude) with the
+// full-resolution magnitude image (width x height floats, valid during the call only). Every
+// filter is computed the same way whatever the thread, so the outputs do not depend on the
+// number of threads as long as `consume` writes only outputs of its filter. `side` is one more
+// independent task, run among the filters (OpenMP loops inside it run on that task's thread
+// unless nested parallelism is enabled).
+template <class Consume, class Side>
+void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
+                   std::vector<float>& upper_edge, Consume&& consume, Side&& side) {
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
   cv::Mat grey(frame.height, frame.width, CV_32F);
 #pragma omp parallel for schedule(static) num_threads(nthreads)
@@ -291,43 +339,39 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int thread
   levels[0] = grey;
   for (int s = 1; s < kGaborScales; ++s) cv::pyrDown(levels[s - 1], levels[s]);
   const int filters = kGaborScales * kGaborOrientations;
-  bank.magnitude.assign(keep_magnitude ? filters : 0, {});
-  bank.upper_edge.assign(filters, 0.f);
-  if (bins) bins->assign(filters, {});
+  upper_edge.assign(filters, 0.f);
   const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
   std::vector<cv::Mat> spectra(kGaborScales);
   // The pixels whose magnitudes set the bin edges: every 4th pixel, if valid.
   std::vector<int> sampled;
   sampled.reserve(n / 4 + 1);
-  for (std::size_t i = 0; i < n; i += 4)
+  for (std::size_t i = 0; i < n; i += 4) {
     if (frame.valid(i)) sampled.push_back(static_cast<int>(i));
-      // The 4 spectra, then the 24 filters (largest level first), are independent tasks; each
-      // writes only its own outputs, so the bank does not depend on the number of threads.
+  }
+  // The 4 spectra, then the 24 filters (largest level first), are independent tasks.
 #pragma omp parallel num_threads(nthreads)
   {
 #pragma omp for schedule(dynamic, 1)
     for (int s = 0; s < kGaborScales; ++s) spectra[s] = level_spectrum(levels[s]);
     GaborWork work;
     cv::Mat level_magnitude, full;
-    std::vector<float> sample;
+    std::vector<float> sample, candidates;
 #pragma omp for schedule(dynamic, 1)
-    for (int filter = 0; filter < filters; ++filter) {
-      const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
-      // At full resolution, in the bank or in a buffer of this thread (level 0 needs no resizing).
-      if (keep_magnitude) {
-        bank.magnitude[filter].resize(n);
-        full = cv::Mat(grey.size(), CV_32F, bank.magnitude[filter].data());
-      } else {
-        full.create(grey.size(), CV_32F);
+    for (int task = -1; task < filters; ++task) {
+      if (task < 0) {
+        side();
+        continue;
       }
-      uchar* const data = full.data;
+      const int filter = task;
+      const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
+      // At full resolution (level 0 needs no resizing).
       if (s == 0) {
         gabor_magnitude(spectra[s], levels[s].size(), o, params, work, full);
       } else {
         gabor_magnitude(spectra[s], levels[s].size(), o, params, work, level_magnitude);
         cv::resize(level_magnitude, full, grey.size(), 0, 0, cv::INTER_LINEAR);
       }
-      CV_Assert(full.data == data && full.isContinuous());
+      CV_Assert(full.isContinuous() && full.type() == CV_32F);
       const float* m = full.ptr<float>(0);
       // Fixed bin edges per filter over the frame: [0, quantile] in 10 bins, over valid points.
       sample.resize(sampled.size());
@@ -336,42 +380,24 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int thread
         const std::size_t q =
             std::min(sample.size() - 1,
                      static_cast<std::size_t>(params.texture_clip_quantile * sample.size()));
-        std::nth_element(sample.begin(), sample.begin() + q, sample.end());
-        bank.upper_edge[filter] = sample[q];
+        upper_edge[filter] = order_statistic(sample, q, candidates);
       }
-      if (bins) {
-        const TextureEdges edges(bank.upper_edge[filter]);
-        auto& b = (*bins)[filter];
-        b.resize(n);
-        // Comparisons for all pixels (vectorised), then the division for the few they miss.
-        for (std::size_t i = 0; i < n; ++i) {
-          const float v = m[i];
-          int k = 0;
-          for (const float e : edges.edge) k += v >= e;
-          b[i] = static_cast<std::uint8_t>(k);
-        }
-        for (std::size_t i = 0; i < n; ++i)
-          if (!(m[i] < edges.exact_above))
-            b[i] = static_cast<std::uint8_t>(texture_bin(m[i], edges.upper));
-      }
+      consume(filter, m);
     }
   }
-  return bank;
 }
 
-// Texture block of one voxel, as texture_feature gives it, from the bins of its pixels.
-Eigen::VectorXf texture_histograms(const std::vector<std::vector<std::uint8_t>>& bins,
-                                   const std::vector<int>& pixels) {
-  Eigen::VectorXf f = Eigen::VectorXf::Zero(kTextureDims);
-  for (std::size_t filter = 0; filter < bins.size(); ++filter) {
-    const std::uint8_t* bin = bins[filter].data();
-    int count[kHistogramBins] = {};
-    for (int p : pixels) ++count[bin[p]];
-    auto block = f.segment(static_cast<int>(filter) * kHistogramBins, kHistogramBins);
-    for (int b = 0; b < kHistogramBins; ++b) block(b) = static_cast<float>(count[b]);
-    normalise(block);
-  }
-  return f;
+GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads) {
+  GaborBank bank;
+  if (!frame.organized()) return bank;
+  bank.width = frame.width;
+  bank.height = frame.height;
+  const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
+  bank.magnitude.assign(kGaborScales * kGaborOrientations, {});
+  gabor_filters(
+      frame, params, threads, bank.upper_edge,
+      [&](int filter, const float* m) { bank.magnitude[filter].assign(m, m + n); }, [] {});
+  return bank;
 }
 
 }  // namespace
@@ -394,6 +420,37 @@ Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& p
 }
 
 namespace {
+
+// Normals of row v of an organized frame from the smoothed points (valid where mask > 0):
+// central differences s pixels apart, skipping neighbours across a depth step.
+void normals_row(const Frame& frame, const float* mask, const Eigen::Vector3f* smooth, int s, int v,
+                 Eigen::Vector3f* normals) {
+  const int w = frame.width, h = frame.height;
+  auto at = [&](int u, int y, Eigen::Vector3f& p) {
+    if (u < 0 || y < 0 || u >= w || y >= h || !(mask[y * w + u] > 0)) return false;
+    p = smooth[y * w + u];
+    return true;
+  };
+  for (int u = 0; u < w; ++u) {
+    Eigen::Vector3f c, l, r, t, b;
+    if (!at(u, v, c)) continue;
+    const float jump = 0.05f * c.z();  // beyond this depth step a neighbour is another surface
+    auto usable = [&](bool ok, const Eigen::Vector3f& p) {
+      return ok && std::abs(p.z() - c.z()) < jump;
+    };
+    const bool hl = usable(at(u - s, v, l), l), hr = usable(at(u + s, v, r), r);
+    const bool ht = usable(at(u, v - s, t), t), hb = usable(at(u, v + s, b), b);
+    if (!(hl || hr) || !(ht || hb)) continue;
+    const Eigen::Vector3f du = (hr ? r : c) - (hl ? l : c);
+    const Eigen::Vector3f dv = (hb ? b : c) - (ht ? t : c);
+    Eigen::Vector3f n = du.cross(dv);
+    const float len = n.norm();
+    if (!(len > 0)) continue;
+    n /= len;
+    if (n.dot(frame.xyz[v * w + u]) > 0) n = -n;  // towards the sensor
+    normals[v * w + u] = n;
+  }
+}
 
 std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params,
                                            int threads) {
@@ -435,42 +492,19 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   cv::Mat sx, sm;
   cv::boxFilter(xyz, sx, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below).
-  std::vector<Eigen::Vector3f> smooth(static_cast<std::size_t>(w) * h);
+  // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below), in
+  // place: a fresh buffer would cost more in page faults than the divisions it saves.
 #pragma omp parallel for schedule(static) num_threads(nthreads)
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u)
-      if (mask.at<float>(v, u) > 0) {
-        const cv::Vec3f q = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
-        smooth[static_cast<std::size_t>(v) * w + u] = Eigen::Vector3f(q[0], q[1], q[2]);
-      }
-  auto at = [&](int u, int v, Eigen::Vector3f& p) {
-    if (u < 0 || v < 0 || u >= w || v >= h || !(mask.at<float>(v, u) > 0)) return false;
-    p = smooth[static_cast<std::size_t>(v) * w + u];
-    return true;
-  };
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      Eigen::Vector3f c, l, r, t, b;
-      if (!at(u, v, c)) continue;
-      const float jump = 0.05f * c.z();  // beyond this depth step a neighbour is another surface
-      auto usable = [&](bool ok, const Eigen::Vector3f& p) {
-        return ok && std::abs(p.z() - c.z()) < jump;
-      };
-      const bool hl = usable(at(u - s, v, l), l), hr = usable(at(u + s, v, r), r);
-      const bool ht = usable(at(u, v - s, t), t), hb = usable(at(u, v + s, b), b);
-      if (!(hl || hr) || !(ht || hb)) continue;
-      const Eigen::Vector3f du = (hr ? r : c) - (hl ? l : c);
-      const Eigen::Vector3f dv = (hb ? b : c) - (ht ? t : c);
-      Eigen::Vector3f n = du.cross(dv);
-      const float len = n.norm();
-      if (!(len > 0)) continue;
-      n /= len;
-      if (n.dot(frame.xyz[v * w + u]) > 0) n = -n;  // towards the sensor
-      normals[v * w + u] = n;
-    }
-  }
+      if (mask.at<float>(v, u) > 0)
+        sx.at<cv::Vec3f>(v, u) = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
+  static_assert(sizeof(cv::Vec3f) == sizeof(Eigen::Vector3f), "same layout");
+  CV_Assert(sx.isContinuous() && mask.isContinuous());
+  const auto* smooth = reinterpret_cast<const Eigen::Vector3f*>(sx.ptr<cv::Vec3f>(0));
+  // Serial: as an OpenMP loop (or any out-of-line function) this loop is twice as slow with GCC 12
+  // (measured), which undoes the gain of a second thread.
+  for (int v = 0; v < h; ++v) normals_row(frame, mask.ptr<float>(0), smooth, s, v, normals.data());
   return normals;
 }
 
@@ -483,19 +517,44 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
 Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
                                const std::vector<int>& voxels, const FeatureParams& params,
                                int threads) {
-  // Rows are filled in a row-major matrix (a column-major row is 454 scattered writes).
-  Eigen::Matrix<float, Eigen::Dynamic, kFeatureDims, Eigen::RowMajor> f =
-      Eigen::Matrix<float, Eigen::Dynamic, kFeatureDims, Eigen::RowMajor>::Zero(
-          static_cast<Eigen::Index>(voxels.size()), kFeatureDims);
+  Eigen::MatrixXf f = Eigen::MatrixXf::Zero(static_cast<Eigen::Index>(voxels.size()), kFeatureDims);
   const bool shape = params.use_shape && params.shape_weight > 0;
   const bool texture = params.use_texture && params.texture_weight > 0 && frame.organized();
   const bool colour = params.use_colour && params.colour_weight > 0;
-  const std::vector<Eigen::Vector3f> normals =
-      shape ? point_normals(frame, params, threads) : std::vector<Eigen::Vector3f>{};
-  // Texture: the bin of every pixel for every filter (the magnitudes themselves are not needed).
-  std::vector<std::vector<std::uint8_t>> texture_bins;
-  if (texture) gabor_bank(frame, params, threads, false, &texture_bins);
-    // Each row is written by one iteration only: the result does not depend on the thread count.
+  // The normals are computed while the Gabor filters run (as one more task among them) when
+  // there is texture, on their own otherwise.
+  std::vector<Eigen::Vector3f> normals;
+  auto compute_normals = [&] {
+    if (shape) normals = point_normals(frame, params, threads);
+  };
+  if (!texture) compute_normals();
+  // Texture: each filter's 10 bins of every row, made by the task that computed the filter from
+  // its magnitude image (no bank of 24 full images is kept). A histogram sums to its point count
+  // exactly (integer counts), so normalise() divides each count by that count, as below.
+  const int filters = kGaborScales * kGaborOrientations;
+  std::vector<std::vector<float>> texture_blocks(texture ? filters : 0);
+  if (texture) {
+    const float weight = static_cast<float>(params.texture_weight);
+    std::vector<float> upper_edge;
+    gabor_filters(
+        frame, params, threads, upper_edge,
+        [&](int filter, const float* m) {
+          const TextureEdges edges(upper_edge[filter]);
+          std::vector<float>& out = texture_blocks[filter];
+          out.assign(voxels.size() * kHistogramBins, 0.f);
+          for (std::size_t row = 0; row < voxels.size(); ++row) {
+            const std::vector<int>& pts = grid.points[voxels[row]];
+            int count[kHistogramBins] = {};
+            edges.histogram(m, pts, count);
+            if (pts.empty()) continue;
+            const float total = static_cast<float>(pts.size());
+            for (int b = 0; b < kHistogramBins; ++b)
+              out[row * kHistogramBins + b] = static_cast<float>(count[b]) / total * weight;
+          }
+        },
+        compute_normals);
+  }
+  // Each row is written by one iteration only: the result does not depend on the thread count.
 #pragma omp parallel for schedule(dynamic, 64) \
     num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (std::size_t row = 0; row < voxels.size(); ++row) {
@@ -507,9 +566,6 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
       f.row(row).segment(0, kColourDims) =
           colour_feature(colours) * static_cast<float>(params.colour_weight);
     }
-    if (texture)
-      f.row(row).segment(kColourDims, kTextureDims) =
-          texture_histograms(texture_bins, pts) * static_cast<float>(params.texture_weight);
     if (shape) {
       std::vector<Eigen::Vector3f> p, n;
       p.reserve(pts.size());
@@ -522,7 +578,14 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
           shape_feature(p, n) * static_cast<float>(params.shape_weight);
     }
   }
-  return Eigen::MatrixXf(f);
+  // The texture blocks, column by column.
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
+  for (int c = 0; c < static_cast<int>(texture_blocks.size()) * kHistogramBins; ++c) {
+    const float* block = texture_blocks[c / kHistogramBins].data() + c % kHistogramBins;
+    float* column = f.col(kColourDims + c).data();
+    for (std::size_t row = 0; row < voxels.size(); ++row) column[row] = block[row * kHistogramBins];
+  }
+  return f;
 }
 
 }  // namespace proxseg

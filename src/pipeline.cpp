@@ -79,7 +79,7 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
                                 {kColourDims, kTextureDims, fp.texture_weight},
                                 {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
   }
-  r.space = principal_axes(r.features, params.clustering.pca_dims);
+  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
   r.times_ms.emplace_back("initial_clustering", watch.lap());
