@@ -181,9 +181,15 @@ int main(int argc, char** argv) {
   md << "\n### Every metric, per category\n\n" << proxseg::summary_markdown(rows);
   md << "\n### proxseg stage times (ms per frame, mean)\n\n| stage | paper | default |\n"
      << "|---|---|---|\n";
-  for (const auto& [stage, ms] : stage_ms["default"])
-    md << "| " << stage << " | " << fmt(stage_ms["paper"][stage] / n, 1) << " | " << fmt(ms / n, 1)
-       << " |\n";
+  double total_paper = 0, total_default = 0;
+  for (const auto& stage : stages) {
+    total_paper += stage_ms["paper"][stage] / n;
+    total_default += stage_ms["default"][stage] / n;
+    md << "| " << stage << " | " << fmt(stage_ms["paper"][stage] / n, 1) << " | "
+       << fmt(stage_ms["default"][stage] / n, 1) << " |\n";
+  }
+  md << "| total (in segment()) | " << fmt(total_paper, 1) << " | " << fmt(total_default, 1)
+     << " |\n";
   md << "\nPresets: `paper` = the paper's settings (w_c = 0.275, alpha-beta swap, 2 cm voxels, "
         "alpha = 0.85); `default` = the best measured settings (docs/method.md). Peers: PCL 1.13 "
         "supervoxels + LCCP (voxel 0.0075, seed 0.03, colour 0, spatial 1, normal 4, concavity "
