@@ -42,7 +42,6 @@ deps-bench:
 bench: bench-seg
 
 bench-seg: deps-bench configure
-	@cmake -S . -B $(BUILD) >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench
 	@mkdir -p $(BUILD)/bench-out
 	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --out $(BUILD)/bench-out/segmentation.md \

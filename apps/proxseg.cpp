@@ -257,34 +257,12 @@ void print_scores(const proxseg::SceneScores& s) {
   }
 }
 
-// Scene files of a folder in natural order (learn2 before learn10).
-std::vector<std::filesystem::path> scene_files(const std::string& dir) {
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    throw InputError(dir + ": not a directory (expected a folder of labelled PCD scenes)");
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.is_regular_file() && e.path().extension() == ".pcd") files.push_back(e.path());
-  auto key = [](const std::filesystem::path& p) {
-    const std::string stem = p.stem().string();
-    std::size_t i = stem.size();
-    while (i > 0 && std::isdigit(static_cast<unsigned char>(stem[i - 1]))) --i;
-    const long n = i < stem.size() ? std::stol(stem.substr(i, 9)) : -1;
-    return std::make_pair(stem.substr(0, i), n);
-  };
-  std::sort(files.begin(), files.end(), [&](const auto& a, const auto& b) {
-    return std::make_pair(key(a), a.string()) < std::make_pair(key(b), b.string());
-  });
-  if (files.empty()) throw InputError(dir + ": no .pcd files (expected labelled PCD scenes)");
-  return files;
-}
-
 int run_eval_batch(const EvalOptions& o) {
   proxseg::SegmentParams params = proxseg::preset(o.preset);
   if (!o.config.empty()) params = proxseg::read_params(o.config, params);
   if (o.threads) params.threads = *o.threads;
   proxseg::validate(params);
-  const auto files = scene_files(o.batch);
+  const auto files = proxseg::scene_files(o.batch);
   const std::string method = o.pred_dir.empty() ? "proxseg " + o.preset : "predictions";
   std::vector<proxseg::SceneScores> scenes;
   Progress progress(files.size());

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <map>
+#include <type_traits>
 #include <unordered_map>
 
 namespace proxseg::peers {
@@ -53,6 +54,31 @@ std::vector<std::size_t> valid_indices(const Frame& frame) {
   return idx;
 }
 
+// A PCL cloud of the given frame points (x y z, and colour when the point type has it).
+template <class Point>
+typename pcl::PointCloud<Point>::Ptr to_pcl(const Frame& frame,
+                                            const std::vector<std::size_t>& indices) {
+  typename pcl::PointCloud<Point>::Ptr cloud(new pcl::PointCloud<Point>);
+  cloud->resize(indices.size());
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    Point& q = (*cloud)[k];
+    const std::size_t i = indices[k];
+    q.x = frame.xyz[i].x();
+    q.y = frame.xyz[i].y();
+    q.z = frame.xyz[i].z();
+    if constexpr (!std::is_same_v<Point, pcl::PointXYZ>) {
+      q.r = frame.rgb[i][0];
+      q.g = frame.rgb[i][1];
+      q.b = frame.rgb[i][2];
+      q.a = 255;
+    }
+  }
+  cloud->width = static_cast<std::uint32_t>(indices.size());
+  cloud->height = 1;
+  cloud->is_dense = true;
+  return cloud;
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> lccp(const Frame& frame, const LccpParams& p) {
@@ -63,18 +89,9 @@ std::vector<std::uint32_t> lccp(const Frame& frame, const LccpParams& p) {
 
   // The whole frame, NaNs included (organized when the frame is): SupervoxelClustering skips
   // non-finite points and getLabeledCloud() returns one label per input point.
-  pcl::PointCloud<pcl::PointXYZRGBA>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZRGBA>);
-  cloud->resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    pcl::PointXYZRGBA& q = (*cloud)[i];
-    q.x = frame.xyz[i].x();
-    q.y = frame.xyz[i].y();
-    q.z = frame.xyz[i].z();
-    q.r = frame.rgb[i][0];
-    q.g = frame.rgb[i][1];
-    q.b = frame.rgb[i][2];
-    q.a = 255;
-  }
+  std::vector<std::size_t> all(n);
+  for (std::size_t i = 0; i < n; ++i) all[i] = i;
+  const auto cloud = to_pcl<pcl::PointXYZRGBA>(frame, all);
   cloud->width = static_cast<std::uint32_t>(frame.width);
   cloud->height = static_cast<std::uint32_t>(frame.height);
   if (std::size_t(cloud->width) * cloud->height != n) {  // inconsistent header: unorganized
@@ -150,21 +167,7 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame, const RegionGr
   const std::vector<std::size_t> idx = valid_indices(frame);
   if (idx.empty()) return labels;
 
-  pcl::PointCloud<pcl::PointXYZRGB>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZRGB>);
-  cloud->resize(idx.size());
-  for (std::size_t k = 0; k < idx.size(); ++k) {
-    pcl::PointXYZRGB& q = (*cloud)[k];
-    const std::size_t i = idx[k];
-    q.x = frame.xyz[i].x();
-    q.y = frame.xyz[i].y();
-    q.z = frame.xyz[i].z();
-    q.r = frame.rgb[i][0];
-    q.g = frame.rgb[i][1];
-    q.b = frame.rgb[i][2];
-  }
-  cloud->width = static_cast<std::uint32_t>(idx.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
+  const auto cloud = to_pcl<pcl::PointXYZRGB>(frame, idx);
 
   pcl::search::Search<pcl::PointXYZRGB>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZRGB>);
   pcl::RegionGrowingRGB<pcl::PointXYZRGB> reg;
@@ -190,15 +193,7 @@ std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& 
   const std::vector<std::size_t> idx = valid_indices(frame);
   if (idx.empty()) return labels;
 
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  cloud->resize(idx.size());
-  for (std::size_t k = 0; k < idx.size(); ++k) {
-    const Eigen::Vector3f& x = frame.xyz[idx[k]];
-    (*cloud)[k] = pcl::PointXYZ(x.x(), x.y(), x.z());
-  }
-  cloud->width = static_cast<std::uint32_t>(idx.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
+  const auto cloud = to_pcl<pcl::PointXYZ>(frame, idx);
 
   // Voxel grid (the tutorial's 1 cm).
   pcl::PointCloud<pcl::PointXYZ>::Ptr down(new pcl::PointCloud<pcl::PointXYZ>);

@@ -41,20 +41,10 @@ struct Table1 {
   double precision = 0, recall = 0, v = 0;
 };
 
+// Every scene of the folder, or N of them spread evenly so every category is represented.
 std::vector<std::filesystem::path> scenes_of(const std::string& dir, int limit) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().extension() == ".pcd") files.push_back(e.path());
-  auto number = [](const std::filesystem::path& p) {
-    const std::string s = p.stem().string();
-    std::size_t i = s.size();
-    while (i > 0 && std::isdigit(static_cast<unsigned char>(s[i - 1]))) --i;
-    return std::make_pair(s.substr(0, i), i < s.size() ? std::stol(s.substr(i)) : -1L);
-  };
-  std::sort(files.begin(), files.end(),
-            [&](const auto& a, const auto& b) { return number(a) < number(b); });
+  std::vector<std::filesystem::path> files = proxseg::scene_files(dir);
   if (limit > 0 && static_cast<int>(files.size()) > limit) {
-    // An even spread over the folder, so every category is represented.
     std::vector<std::filesystem::path> spread;
     for (int i = 0; i < limit; ++i) spread.push_back(files[i * files.size() / limit]);
     files = spread;
@@ -121,9 +111,11 @@ int main(int argc, char** argv) {
   methods.emplace_back("PCL plane + Euclidean",
                        [](const Frame& f) { return proxseg::peers::euclidean(f); });
 
-  const auto files = scenes_of(data, limit);
-  if (files.empty()) {
-    std::cerr << "seg_bench: no .pcd scenes in " << data << "\n";
+  std::vector<std::filesystem::path> files;
+  try {
+    files = scenes_of(data, limit);
+  } catch (const proxseg::InputError& e) {
+    std::cerr << "seg_bench: " << e.what() << "\n";
     return 1;
   }
   // One untimed run of every method first: first-call costs (page faults, lazy init) are not

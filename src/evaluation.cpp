@@ -1,6 +1,8 @@
 // Evaluation of segmentations on labelled scenes: schemes, categories, summaries.
 #include <proxseg/evaluation.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -71,6 +73,28 @@ std::string scene_category(const std::string& scene_name) {
          : i <= 32 ? "occluded"
          : i <= 44 ? "cylindric"
                    : "other";
+}
+
+std::vector<std::filesystem::path> scene_files(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(dir + ": not a directory (expected a folder of labelled PCD scenes)");
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.is_regular_file() && e.path().extension() == ".pcd") files.push_back(e.path());
+  // Natural order: the trailing number of the stem compares as a number.
+  auto key = [](const std::filesystem::path& p) {
+    const std::string stem = p.stem().string();
+    std::size_t i = stem.size();
+    while (i > 0 && std::isdigit(static_cast<unsigned char>(stem[i - 1]))) --i;
+    const long n = i < stem.size() ? std::stol(stem.substr(i, 9)) : -1;
+    return std::make_pair(stem.substr(0, i), n);
+  };
+  std::sort(files.begin(), files.end(), [&](const auto& a, const auto& b) {
+    return std::make_pair(key(a), a.string()) < std::make_pair(key(b), b.string());
+  });
+  if (files.empty()) throw InputError(dir + ": no .pcd files (expected labelled PCD scenes)");
+  return files;
 }
 
 std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {

@@ -151,20 +151,18 @@ void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, const Featur
   const double denom = 2 * sf * sf;
   const double theta = o * kPi / kGaborOrientations;
   const double fu = f0 * std::cos(theta), fv = f0 * std::sin(theta);
-  work.du2.resize(cols);
-  work.eu.resize(cols);
-  for (int c = 0; c < cols; ++c) {
-    const double u = (c <= cols / 2 ? c : c - cols) / static_cast<double>(cols);
-    work.du2[c] = (u - fu) * (u - fu);
-    work.eu[c] = std::exp(-work.du2[c] / denom);
-  }
-  work.dv2.resize(rows);
-  work.ev.resize(rows);
-  for (int r = 0; r < rows; ++r) {
-    const double v = (r <= rows / 2 ? r : r - rows) / static_cast<double>(rows);
-    work.dv2[r] = (v - fv) * (v - fv);
-    work.ev[r] = std::exp(-work.dv2[r] / denom);
-  }
+  // One axis of the separable envelope: squared distance to the centre frequency and its factor.
+  auto axis = [denom](int n, double centre, std::vector<double>& d2, std::vector<double>& e) {
+    d2.resize(n);
+    e.resize(n);
+    for (int i = 0; i < n; ++i) {
+      const double f = (i <= n / 2 ? i : i - n) / static_cast<double>(n);
+      d2[i] = (f - centre) * (f - centre);
+      e[i] = std::exp(-d2[i] / denom);
+    }
+  };
+  axis(cols, fu, work.du2, work.eu);
+  axis(rows, fv, work.dv2, work.ev);
   work.filtered.create(spectrum.size(), spectrum.type());
   for (int r = 0; r < rows; ++r) {
     const auto* in = spectrum.ptr<cv::Vec2f>(r);

@@ -258,6 +258,15 @@ std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::ui
   return cluster;
 }
 
+// The component of every voxel: that of its first point (-1 for none). Voxels are almost never
+// split between components, so one point speaks for the voxel.
+std::vector<int> voxel_components(const VoxelGrid& grid, const std::vector<int>& component) {
+  std::vector<int> out(grid.size(), -1);
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (!grid.points[v].empty()) out[v] = component[grid.points[v][0]];
+  return out;
+}
+
 // Merges neighbouring components whose common boundary is convex or flat (at most
 // merge_max_concave_share of its voxel edges concave): the faces of one object that the
 // features told apart. Returns the merged component of every point.
@@ -266,9 +275,7 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
                   const std::map<int, const Candidate*>& pieces, std::vector<int>& component) {
   const float cos_tolerance =
       static_cast<float>(std::cos(params.concavity_tolerance_deg * M_PI / 180.0));
-  std::vector<int> voxel_component(grid.size(), -1);
-  for (std::size_t v = 0; v < grid.size(); ++v)
-    if (!grid.points[v].empty()) voxel_component[v] = component[grid.points[v][0]];
+  const std::vector<int> voxel_component = voxel_components(grid, component);
   std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // (a, b) -> (edges, concave)
   for (std::size_t u = 0; u < grid.size(); ++u)
     for (int v : grid.neighbours[u]) {
@@ -531,7 +538,8 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
     }
   }
 
-  // 5. Components in order of their smallest point index, with their box and background flag.
+  // 5. Components in order of their smallest point index. Their box, centroid and background
+  // flag are computed only where a step needs them: the merge below and the final instances.
   auto group_components = [&]() {
     std::unordered_map<int, int> slot;
     std::vector<Candidate> out;
@@ -541,15 +549,16 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
       if (added) out.emplace_back();
       out[it->second].points.push_back(static_cast<int>(p));
     }
-    for (Candidate& c : out) {
-      c.label = point_labels[c.points[0]];
-      c.box = oriented_box(frame, c.points);
-      for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
-      c.centroid /= static_cast<double>(c.points.size());
-      c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
-                     is_background(frame, c, params);
-    }
     return out;
+  };
+  auto describe = [&](Candidate& c) {
+    c.label = point_labels[c.points[0]];
+    c.box = oriented_box(frame, c.points);
+    c.centroid = Eigen::Vector3d::Zero();
+    for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
+    c.centroid /= static_cast<double>(c.points.size());
+    c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
+                   is_background(frame, c, params);
   };
   std::vector<Candidate> components = group_components();
 
@@ -559,7 +568,8 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
     // Pieces of the support plane count as background here, whatever their size: an object
     // must not reach the table through a small piece of it.
     std::map<int, const Candidate*> background, pieces;
-    for (const Candidate& c : components) {
+    for (Candidate& c : components) {
+      describe(c);
       std::size_t on_plane = 0;
       for (int p : c.points) on_plane += in_plane[grid.voxel_of_point[p]];
       pieces[component[c.points[0]]] = &c;
@@ -573,13 +583,11 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
   // rounds, so that a fragment beside a fragment also finds a home); the rest stay unassigned.
   if (params.absorb_small) {
     for (int round = 0; round < 2; ++round) {
-      std::vector<int> voxel_component(grid.size(), -1);
       std::map<int, bool> large;
       for (const Candidate& c : components)
         large[component[c.points[0]]] =
             static_cast<int>(c.points.size()) >= params.min_candidate_points;
-      for (std::size_t v = 0; v < grid.size(); ++v)
-        if (!grid.points[v].empty()) voxel_component[v] = component[grid.points[v][0]];
+      const std::vector<int> voxel_component = voxel_components(grid, component);
       std::map<int, std::map<int, int>> contact;  // small -> large -> voxel edges
       for (std::size_t u = 0; u < grid.size(); ++u) {
         const int a = voxel_component[u];
@@ -604,6 +612,7 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
   // 8. Large components become instances.
   for (Candidate& c : components) {
     if (static_cast<int>(c.points.size()) < params.min_candidate_points) continue;
+    describe(c);
     c.instance = static_cast<std::uint32_t>(s.components.size() + 1);
     for (int p : c.points) s.instance[p] = c.instance;
     s.components.push_back(std::move(c));

@@ -5,6 +5,7 @@
 #include <proxseg/frame.hpp>
 #include <proxseg/metrics.hpp>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -33,12 +34,16 @@ SceneScores score_scene(const Frame& truth, const std::vector<std::uint32_t>& pr
 // 17-24 stacked, 25-32 occluded, 33-44 cylindric; any other name -> "other".
 std::string scene_category(const std::string& scene_name);
 
+// The .pcd files of a folder in natural order (learn2 before learn10). InputError if the folder
+// does not exist or holds no .pcd file.
+std::vector<std::filesystem::path> scene_files(const std::string& dir);
+
 // Means over scenes of every score, per method and category, plus an "all" category.
 struct SummaryRow {
   std::string method, category;
   int scenes = 0;
   double seconds = 0;
-  SegmentationScores objects, parts;  // means (counts are means too, rounded in output)
+  SegmentationScores objects, parts;  // means of the scores; the int counts stay 0 here
   double over_segmented = 0, under_segmented = 0, truth_objects = 0;  // mean counts, objects
 };
 std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes);
