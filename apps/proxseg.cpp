@@ -10,35 +10,19 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+
+#include "cli.hpp"
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 
-namespace {
+namespace cli {
 
 using proxseg::InputError;
 
-struct SegmentOptions {
-  std::string input, output, color, depth, intrinsics, meta, config, candidates_dir;
-  std::string preset = "default";
-  bool no_mrf = false, json = false;
-  std::optional<std::string> mrf_method;
-  std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
-      shape_weight, cluster_tolerance;
-  std::optional<int> min_points, pca_dims, threads, min_candidate_points;
-  bool no_colour = false, no_texture = false, no_shape = false;
-};
-
-void add_segment(CLI::App& app, SegmentOptions& o) {
-  auto* cmd = app.add_subcommand(
-      "segment", "Segment an RGB-D scene into regions and candidate objects (paper 3.1-3.3)");
-  cmd->add_option("input", o.input,
-                  "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
-  cmd->add_option("-o,--output", o.output,
-                  "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json")
-      ->required();
+void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--color", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
   cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
   cmd->add_option("--intrinsics", o.intrinsics,
@@ -47,10 +31,6 @@ void add_segment(CLI::App& app, SegmentOptions& o) {
   cmd->add_option("--preset", o.preset,
                   "Base parameters: default (best measured) or paper (the paper's settings)")
       ->check(CLI::IsMember({"default", "paper"}));
-  cmd->add_option("--config", o.config,
-                  "JSON parameters over the preset (same layout as the report's \"parameters\")");
-  cmd->add_option("--candidates-dir", o.candidates_dir,
-                  "Also write one PCD per candidate object to this directory");
   cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
   cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
       ->check(CLI::IsMember({"swap", "expansion"}));
@@ -73,13 +53,10 @@ void add_segment(CLI::App& app, SegmentOptions& o) {
                   "Smaller components are not candidates");
   cmd->add_option("--threads", o.threads,
                   "Worker threads (0 = all cores); results do not depend on it");
-  cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
 }
 
 // Preset < --config < individual flags.
-proxseg::SegmentParams segment_params(const SegmentOptions& o) {
-  proxseg::SegmentParams p = proxseg::preset(o.preset);
-  if (!o.config.empty()) p = proxseg::read_params(o.config, p);
+proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams p) {
   if (o.voxel_size) p.voxels.voxel_size = *o.voxel_size;
   if (o.min_points) p.voxels.min_points_per_voxel = *o.min_points;
   if (o.alpha) p.clustering.alpha = *o.alpha;
@@ -119,7 +96,7 @@ void make_parent(const std::string& path) {
     throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
 }
 
-int run_segment(const SegmentOptions& o) {
+void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs) {
   const bool rgbd = !o.color.empty() || !o.depth.empty();
   if (o.input.empty() == !rgbd)
     throw CLI::ValidationError("give either INPUT or --color and --depth");
@@ -128,11 +105,60 @@ int run_segment(const SegmentOptions& o) {
   if (rgbd && o.intrinsics.empty() == o.meta.empty())
     throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
   for (const std::string& in : {o.input, o.color, o.depth})
-    for (const char* ext : {".pcd", ".png", ".json"})
-      if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(o.output + ext) &&
-          std::filesystem::equivalent(in, o.output + ext))
-        throw CLI::ValidationError("--output " + o.output + " would overwrite the input " + in);
-  const proxseg::SegmentParams params = segment_params(o);
+    for (const std::string& out : outputs)
+      if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(out) &&
+          std::filesystem::equivalent(in, out))
+        throw CLI::ValidationError("--output would overwrite the input " + in);
+}
+
+Progress::Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
+
+void Progress::step(const std::string& what) {
+  ++done_;
+  if (tty_) {
+    const int width = 30,
+              filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
+    std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
+              << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
+    if (done_ == total_) std::cerr << "\n";
+  } else {
+    std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
+  }
+}
+
+}  // namespace cli
+
+namespace {
+
+using proxseg::InputError;
+using namespace cli;
+
+struct SegmentCommand : SegmentOptions {
+  std::string output, config, candidates_dir;
+  bool json = false;
+};
+
+void add_segment(CLI::App& app, SegmentCommand& o) {
+  auto* cmd = app.add_subcommand(
+      "segment", "Segment an RGB-D scene into regions and candidate objects (paper 3.1-3.3)");
+  cmd->add_option("input", o.input,
+                  "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
+  cmd->add_option("-o,--output", o.output,
+                  "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json")
+      ->required();
+  cmd->add_option("--config", o.config,
+                  "JSON parameters over the preset (same layout as the report's \"parameters\")");
+  cmd->add_option("--candidates-dir", o.candidates_dir,
+                  "Also write one PCD per candidate object to this directory");
+  add_scene_options(cmd, o);
+  cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
+}
+
+int run_segment(const SegmentCommand& o) {
+  check_scene_options(o, {o.output + ".pcd", o.output + ".png", o.output + ".json"});
+  proxseg::SegmentParams base = proxseg::preset(o.preset);
+  if (!o.config.empty()) base = proxseg::read_params(o.config, base);
+  const proxseg::SegmentParams params = segment_params(o, base);
   const proxseg::Frame frame = read_input(o);
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
             << frame.height << ")\n";
@@ -170,29 +196,6 @@ int run_synth(const SynthOptions& o) {
             << frame.valid_count() << " valid points, ground truth in field 'label'\n";
   return 0;
 }
-
-// A progress bar on stderr for batch work: redrawn in place on a terminal, one line per step
-// otherwise (logs stay readable in CI).
-class Progress {
- public:
-  explicit Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
-  void step(const std::string& what) {
-    ++done_;
-    if (tty_) {
-      const int width = 30,
-                filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
-      std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
-                << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
-      if (done_ == total_) std::cerr << "\n";
-    } else {
-      std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
-    }
-  }
-
- private:
-  std::size_t total_, done_ = 0;
-  bool tty_;
-};
 
 struct EvalOptions {
   std::string truth, predicted, field, batch, pred_dir, output, config;
@@ -350,8 +353,12 @@ int run_eval(const EvalOptions& o) {
 int main(int argc, char** argv) {
   CLI::App app{"proxseg: unsupervised RGB-D segmentation and object recognition"};
   app.require_subcommand(1);
-  SegmentOptions segment;
+  SegmentCommand segment;
   add_segment(app, segment);
+  DbOptions db;
+  add_db(app, db);
+  RecognizeOptions recognize;
+  add_recognize(app, recognize);
   EvalOptions eval;
   add_eval(app, eval);
   SynthOptions synth;
@@ -365,6 +372,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("segment")) return run_segment(segment);
     if (app.got_subcommand("synth")) return run_synth(synth);
     if (app.got_subcommand("eval-seg")) return run_eval(eval);
+    if (app.got_subcommand("db")) return run_db(db);
+    if (app.got_subcommand("recognize")) return run_recognize(recognize);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (code 0) or the usage error
     return code == 0 ? 0 : 2;

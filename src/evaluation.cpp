@@ -1,5 +1,14 @@
 // Evaluation of segmentations on labelled scenes: schemes, categories, summaries.
 #include <proxseg/evaluation.hpp>
+#include <proxseg/io.hpp>
+#include <proxseg/selection.hpp>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -212,6 +221,112 @@ nlohmann::json summary_json(const std::vector<SummaryRow>& rows) {
                  {"parts", parts}});
   }
   return j;
+}
+
+std::vector<std::string> read_lines(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open (expected a text file)");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) {
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
+                        const std::vector<std::string>& classes) {
+  const std::string base = (std::filesystem::path(dir) / stem).string();
+  const std::string meta_path = base + "-meta.json", label_path = base + "-label.png";
+  YcbFrame y;
+  y.frame = read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(meta_path));
+  const cv::Mat label = cv::imread(label_path, cv::IMREAD_UNCHANGED);
+  if (label.empty() || label.type() != CV_8UC1 || label.cols != y.frame.width ||
+      label.rows != y.frame.height)
+    throw InputError(label_path + ": expected an 8-bit one-channel PNG the size of the frame");
+  nlohmann::json meta;
+  {
+    std::ifstream in(meta_path);
+    meta = nlohmann::json::parse(in, nullptr, false);
+  }
+  const auto& ids = meta["cls_indexes"];
+  const auto& poses = meta["poses"];
+  if (!ids.is_array() || !poses.is_array() || poses.size() != 3)
+    throw InputError(meta_path + ": expected cls_indexes and poses (3 x 4 x N)");
+  for (std::size_t n = 0; n < ids.size(); ++n) {
+    ObjectTruth o;
+    const auto& id = ids[n].is_array() ? ids[n][0] : ids[n];
+    o.class_index = id.get<int>();
+    if (o.class_index < 1 || o.class_index > static_cast<int>(classes.size()))
+      throw InputError(meta_path + ": cls_indexes[" + std::to_string(n) + "] = " +
+                       std::to_string(o.class_index) + " is not a class of classes.txt");
+    o.name = classes[o.class_index - 1];
+    o.pose.setIdentity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) o.pose(r, c) = poses[r][c][n].get<double>();
+    for (int i = 0; i < label.rows * label.cols; ++i)
+      if (label.data[i] == o.class_index && y.frame.valid(i)) o.points.push_back(i);
+    y.objects.push_back(std::move(o));
+  }
+  return y;
+}
+
+std::vector<Eigen::Matrix4d> box_symmetries(const std::vector<Eigen::Vector3d>& model,
+                                            double tolerance) {
+  Frame f;
+  for (const auto& p : model) f.xyz.push_back(p.cast<float>());
+  f.rgb.assign(model.size(), Rgb{0, 0, 0});
+  f.width = static_cast<int>(model.size());
+  f.height = 1;
+  std::vector<int> all(model.size());
+  std::iota(all.begin(), all.end(), 0);
+  const OrientedBox box = oriented_box(f, all);
+  // Candidate turns in the box frame: 180 degrees about each axis; 90 and 270 about an axis
+  // whose other two extents are equal within tolerance.
+  std::vector<Eigen::Matrix3d> turns;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
+    turns.push_back(Eigen::AngleAxisd(M_PI, axis).toRotationMatrix());
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    if (std::abs(box.extent[b] - box.extent[c]) < 2 * tolerance)
+      for (double angle : {M_PI / 2, 3 * M_PI / 2})
+        turns.push_back(Eigen::AngleAxisd(angle, axis).toRotationMatrix());
+  }
+  std::vector<Eigen::Matrix4d> out = {Eigen::Matrix4d::Identity()};
+  // Mean distance from each turned point to the nearest model point (brute force on a subsample:
+  // models are a few thousand points and this runs once per model).
+  const std::size_t stride = std::max<std::size_t>(1, model.size() / 400);
+  for (const Eigen::Matrix3d& t : turns) {
+    Eigen::Matrix4d s = Eigen::Matrix4d::Identity();
+    const Eigen::Matrix3d r = box.axes * t * box.axes.transpose();
+    s.topLeftCorner<3, 3>() = r;
+    s.topRightCorner<3, 1>() = box.centre - r * box.centre;
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < model.size(); i += stride, ++n) {
+      const Eigen::Vector3d q = r * model[i] + s.topRightCorner<3, 1>();
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& p : model) best = std::min(best, (p - q).squaredNorm());
+      sum += std::sqrt(best);
+    }
+    if (n && sum / n < tolerance) out.push_back(s);
+  }
+  return out;
+}
+
+PoseError pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
+                     const std::vector<Eigen::Matrix4d>& symmetries) {
+  PoseError best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  const auto one = [&](const Eigen::Matrix4d& t) {
+    const Eigen::Matrix3d dr = estimate.topLeftCorner<3, 3>().transpose() * t.topLeftCorner<3, 3>();
+    const double angle = Eigen::AngleAxisd(dr).angle() * 180 / M_PI;
+    const double dt = (estimate.topRightCorner<3, 1>() - t.topRightCorner<3, 1>()).norm();
+    // Rank by rotation first: symmetric equivalents differ mostly in rotation.
+    if (angle < best.rotation_deg) best = {dt, angle};
+  };
+  one(truth);
+  for (const auto& s : symmetries) one(truth * s);
+  return best;
 }
 
 }  // namespace proxseg

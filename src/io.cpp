@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/TriangleMesh.h>
+#include <open3d/io/TriangleMeshIO.h>
 #include <open3d/io/PointCloudIO.h>
 #include <open3d/utility/Logging.h>
 #include <algorithm>
@@ -664,6 +666,74 @@ Frame read_point_cloud(const std::string& path) {
   if (ext == ".ply") return read_ply(path);
   if (ext.empty()) fail(path, "has no file extension (expected .pcd or .ply)");
   fail(path, "unknown extension " + quote(ext) + " (expected .pcd or .ply)");
+}
+
+Mesh read_mesh(const std::string& path, double scale) {
+  if (!(scale > 0) || !std::isfinite(scale)) fail(path, "mesh scale must be a positive number");
+  require_file(path);
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".ply") fail(path, "unknown mesh extension " + quote(ext) + " (expected .ply)");
+  check_ply_header(path);
+  open3d::geometry::TriangleMesh tm;
+  bool ok = false;
+  {
+    const open3d::utility::VerbosityLevel saved = open3d::utility::GetVerbosityLevel();
+    open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
+    try {
+      ok = open3d::io::ReadTriangleMesh(path, tm);
+    } catch (const std::exception& e) {
+      open3d::utility::SetVerbosityLevel(saved);
+      fail(path, "cannot read PLY mesh (" + one_line(e.what()) + ")");
+    }
+    open3d::utility::SetVerbosityLevel(saved);
+  }
+  if (!ok) fail(path, "cannot read PLY mesh (expected vertices and triangle faces)");
+  if (tm.vertices_.empty() || tm.triangles_.empty())
+    fail(path, "mesh has " + std::to_string(tm.vertices_.size()) + " vertices and " +
+                   std::to_string(tm.triangles_.size()) + " faces (expected both)");
+  Mesh m;
+  const int n = static_cast<int>(tm.vertices_.size());
+  m.vertices.reserve(n);
+  for (const auto& v : tm.vertices_) {
+    if (!v.allFinite()) fail(path, "mesh has a vertex with NaN or infinite coordinates");
+    m.vertices.push_back((v * scale).cast<float>());
+  }
+  const bool coloured = tm.vertex_colors_.size() == tm.vertices_.size();
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d c =
+        coloured ? Eigen::Vector3d(tm.vertex_colors_[i].cwiseMax(0.0).cwiseMin(1.0) * 255.0)
+                 : Eigen::Vector3d(128, 128, 128);
+    m.colours.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
+                         static_cast<std::uint8_t>(std::lround(c.y())),
+                         static_cast<std::uint8_t>(std::lround(c.z()))});
+  }
+  for (const auto& t : tm.triangles_) {
+    if ((t.array() < 0).any() || (t.array() >= n).any())
+      fail(path, "mesh has a face with a vertex index outside 0.." + std::to_string(n - 1));
+    m.triangles.push_back(t);
+  }
+  return m;
+}
+
+std::vector<Eigen::Vector3d> read_xyz(const std::string& path) {
+  std::istringstream in(read_whole_file(path));
+  std::vector<Eigen::Vector3d> points;
+  std::string line;
+  for (long number = 1; std::getline(in, line); ++number) {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    Eigen::Vector3d p;
+    std::string extra;
+    if (!(fields >> p.x() >> p.y() >> p.z()) || (fields >> extra) || !p.allFinite())
+      fail(path, "line " + std::to_string(number) + ": " + quote(line) +
+                     " is invalid (expected three finite numbers x y z)");
+    points.push_back(p);
+  }
+  if (points.empty()) fail(path, "has no points (expected lines of x y z in metres)");
+  return points;
 }
 
 Intrinsics read_intrinsics(const std::string& path) {

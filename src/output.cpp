@@ -69,6 +69,44 @@ cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labe
   return image;
 }
 
+// Maps a point in the sensor frame to the picture: for organized frames a pinhole fitted to the
+// cloud by least squares (u = fx x/z + cx, v = fy y/z + cy), else the view of render_points.
+// Some sensors' clouds look down -z (e.g. the PCL milk scene): zsign is the side the scene is on.
+struct Projection {
+  double fx = 525, fy = 525, cx = 319.5, cy = 239.5, zsign = 1;
+  bool ok = false;
+  bool in_front(const Eigen::Vector3d& p) const { return p.z() * zsign > 1e-6; }
+  Eigen::Vector2d operator()(const Eigen::Vector3d& p) const {
+    return {fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy};
+  }
+};
+
+Projection fit_projection(const Frame& frame) {
+  Projection pr;
+  // Normal equations of the two independent line fits.
+  double su = 0, sx = 0, sxx = 0, sxu = 0, sv = 0, sy = 0, syy = 0, syv = 0, n = 0, front = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) front += frame.xyz[i].z() > 0 ? 1 : -1;
+  pr.zsign = front >= 0 ? 1 : -1;
+  for (int v = 0; v < frame.height; ++v)
+    for (int u = 0; u < frame.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * frame.width + u;
+      if (!frame.valid(i) || !pr.in_front(frame.xyz[i].cast<double>())) continue;
+      const double x = frame.xyz[i].x() / frame.xyz[i].z(), y = frame.xyz[i].y() / frame.xyz[i].z();
+      su += u, sx += x, sxx += x * x, sxu += x * u;
+      sv += v, sy += y, syy += y * y, syv += y * v;
+      ++n;
+    }
+  const double dx = n * sxx - sx * sx, dy = n * syy - sy * sy;
+  if (n < 10 || !(dx > 0) || !(dy > 0)) return pr;
+  pr.fx = (n * sxu - sx * su) / dx;
+  pr.cx = (su - pr.fx * sx) / n;
+  pr.fy = (n * syv - sy * sv) / dy;
+  pr.cy = (sv - pr.fy * sy) / n;
+  pr.ok = std::isfinite(pr.fx) && std::isfinite(pr.fy) && pr.fx != 0 && pr.fy != 0;
+  return pr;
+}
+
 }  // namespace
 
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& labels) {
@@ -176,6 +214,109 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
     throw;
   }
   return report;
+}
+
+nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
+  const Recognition& r = o.recognition;
+  const auto rows = [](const Eigen::Matrix4d& m) {
+    std::vector<std::vector<double>> out(4, std::vector<double>(4));
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) out[i][j] = m(i, j);
+    return out;
+  };
+  const auto match = [&](const Match& m) -> nlohmann::json {
+    if (m.view < 0) return nullptr;
+    return {{"name", m.object},
+            {"view", db.views[m.view].file},
+            {"score", m.score},
+            {"fitness", m.fitness},
+            {"coverage", m.coverage},
+            {"rmse", m.rmse},
+            {"pose", rows(m.pose)}};
+  };
+  nlohmann::json j = {{"id", o.id},
+                      {"points", o.points},
+                      {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
+                      {"name", r.name},
+                      {"best", match(r.best)},
+                      {"runner_up", match(r.runner_up)},
+                      {"views_aligned", r.views_aligned},
+                      {"times_ms", {{"describe", r.describe_ms}, {"align", r.align_ms}}}};
+  if (r.best.view >= 0) {
+    j["score"] = r.best.score;
+    j["fitness"] = r.best.fitness;
+    j["coverage"] = r.best.coverage;
+    j["pose"] = rows(r.best.pose);
+  }
+  return j;
+}
+
+std::string recognition_image_png(const Frame& frame, const std::vector<RecognizedObject>& objects,
+                                  const Database& db) {
+  cv::Mat image;
+  Projection pr;
+  if (frame.organized()) {
+    image.create(frame.height, frame.width, CV_8UC3);
+    for (int v = 0; v < frame.height; ++v)
+      for (int u = 0; u < frame.width; ++u) {
+        const Rgb& c = frame.rgb[static_cast<std::size_t>(v) * frame.width + u];
+        image.at<cv::Vec3b>(v, u) = cv::Vec3b(c[2] / 2, c[1] / 2, c[0] / 2);
+      }
+    pr = fit_projection(frame);
+  } else {
+    // Seen from the sensor with the default Kinect-like pinhole, image centred on the cloud.
+    image = cv::Mat(480, 640, CV_8UC3, cv::Scalar(40, 40, 40));
+    Eigen::Vector2d lo(INFINITY, INFINITY), hi = -lo;
+    for (std::size_t i = 0; i < frame.size(); ++i)
+      if (frame.valid(i) && frame.xyz[i].z() > 0) {
+        const Eigen::Vector2d q(frame.xyz[i].x() / frame.xyz[i].z(),
+                                frame.xyz[i].y() / frame.xyz[i].z());
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+      }
+    if (lo.allFinite()) {
+      const Eigen::Vector2d span = (hi - lo).cwiseMax(1e-9);
+      pr.fx = pr.fy = 0.8 * std::min(640 / span.x(), 480 / span.y());
+      pr.cx = 320 - pr.fx * (lo.x() + hi.x()) / 2;
+      pr.cy = 240 - pr.fy * (lo.y() + hi.y()) / 2;
+      pr.ok = true;
+    }
+    for (std::size_t i = 0; i < frame.size() && pr.ok; ++i) {
+      if (!frame.valid(i) || !(frame.xyz[i].z() > 0)) continue;
+      const Eigen::Vector2d q = pr(frame.xyz[i].cast<double>());
+      const Rgb& c = frame.rgb[i];
+      cv::circle(image, cv::Point(int(q.x()), int(q.y())), 1, cv::Scalar(c[2] / 2, c[1] / 2, c[0] / 2),
+                 cv::FILLED);
+    }
+  }
+  const auto objects_in_db = db.objects();
+  for (const RecognizedObject& o : objects) {
+    const Recognition& r = o.recognition;
+    if (!pr.ok || r.best.view < 0 || r.name == "unknown") continue;
+    const auto index = std::find(objects_in_db.begin(), objects_in_db.end(), r.name) -
+                       objects_in_db.begin();
+    const cv::Vec3b c = label_colour(static_cast<std::uint32_t>(index + 1));
+    const Cloud& view = db.views[r.best.view].cloud;
+    for (const auto& p : view.points) {
+      const Eigen::Vector3d q3 =
+          r.best.pose.topLeftCorner<3, 3>() * p + r.best.pose.topRightCorner<3, 1>();
+      if (!pr.in_front(q3)) continue;
+      const Eigen::Vector2d q = pr(q3);
+      cv::circle(image, cv::Point(int(std::lround(q.x())), int(std::lround(q.y()))), 1,
+                 cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
+    }
+    if (pr.in_front(o.centroid)) {
+      const Eigen::Vector2d q = pr(o.centroid);
+      char text[160];
+      std::snprintf(text, sizeof text, "%s %.2f", r.name.c_str(), r.best.score);
+      const cv::Point at(int(q.x()) - 30, int(q.y()));
+      cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 3);
+      cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 1);
+    }
+  }
+  std::vector<uchar> png;
+  cv::imencode(".png", image, png);
+  return std::string(png.begin(), png.end());
 }
 
 std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,

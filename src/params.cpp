@@ -12,6 +12,12 @@ namespace proxseg {
 void to_json(nlohmann::json& j, MrfMethod m) {
   j = m == MrfMethod::kSwap ? "swap" : "expansion";
 }
+void to_json(nlohmann::json& j, MultiRadius m) {
+  j = m == MultiRadius::kConcatenate ? "concatenate" : "best_of";
+}
+void to_json(nlohmann::json& j, Score s) {
+  j = s == Score::kFitness ? "fitness" : "symmetric";
+}
 
 namespace {
 
@@ -62,6 +68,29 @@ void fields(P& p, F&& f) {
   f("", "threads", p.threads);
 }
 
+// The same for recognition [3.4].
+template <class P, class F>
+void recognition_fields(P& p, F&& f) {
+  f("registration", "multi_radius", p.registration.multi_radius);
+  f("registration", "ransac_iterations", p.registration.ransac_iterations);
+  f("registration", "ransac_distance", p.registration.ransac_distance);
+  f("registration", "edge_similarity", p.registration.edge_similarity);
+  f("registration", "normal_tolerance_deg", p.registration.normal_tolerance_deg);
+  f("registration", "ransac_candidates", p.registration.ransac_candidates);
+  f("registration", "mutual_filter", p.registration.mutual_filter);
+  f("registration", "max_points", p.registration.max_points);
+  f("registration", "icp_iterations", p.registration.icp_iterations);
+  f("registration", "icp_distance", p.registration.icp_distance);
+  f("registration", "point_to_plane", p.registration.point_to_plane);
+  f("registration", "fitness_distance", p.registration.fitness_distance);
+  f("registration", "score_distance", p.registration.score_distance);
+  f("", "score", p.score);
+  f("", "min_score", p.min_score);
+  f("", "early_exit", p.early_exit);
+  f("", "seed", p.seed);
+  f("", "threads", p.threads);
+}
+
 std::string field_name(const std::string& section, const std::string& key) {
   return section.empty() ? key : section + "." + key;
 }
@@ -82,6 +111,26 @@ void read_value(const std::string& name, const json& v, bool& out) {
   if (!v.is_boolean()) wrong_type(name, "true or false", v);
   out = v.get<bool>();
 }
+void read_value(const std::string& name, const json& v, std::uint64_t& out) {
+  if (!v.is_number_unsigned()) wrong_type(name, "a non-negative integer", v);
+  out = v.get<std::uint64_t>();
+}
+void read_value(const std::string& name, const json& v, MultiRadius& out) {
+  if (v == "concatenate")
+    out = MultiRadius::kConcatenate;
+  else if (v == "best_of")
+    out = MultiRadius::kBestOf;
+  else
+    wrong_type(name, "\"concatenate\" or \"best_of\"", v);
+}
+void read_value(const std::string& name, const json& v, Score& out) {
+  if (v == "fitness")
+    out = Score::kFitness;
+  else if (v == "symmetric")
+    out = Score::kSymmetric;
+  else
+    wrong_type(name, "\"fitness\" or \"symmetric\"", v);
+}
 void read_value(const std::string& name, const json& v, MrfMethod& out) {
   if (v == "swap")
     out = MrfMethod::kSwap;
@@ -91,9 +140,8 @@ void read_value(const std::string& name, const json& v, MrfMethod& out) {
     wrong_type(name, "\"swap\" or \"expansion\"", v);
 }
 
-}  // namespace
-
-json to_json(const SegmentParams& params) {
+template <class P, class Fields>
+json to_json_with(const P& params, Fields fields) {
   json j = json::object();
   fields(params, [&](const std::string& section, const std::string& key, const auto& value) {
     if (section.empty())
@@ -104,7 +152,8 @@ json to_json(const SegmentParams& params) {
   return j;
 }
 
-SegmentParams params_from_json(const json& j, SegmentParams base) {
+template <class P, class Fields>
+P from_json_with(const json& j, P base, Fields fields) {
   if (!j.is_object()) throw InputError("config: expected a JSON object, got " + j.dump());
   // Unknown keys are errors: a typo must not silently leave a default in place.
   std::set<std::string> sections, known;
@@ -130,15 +179,57 @@ SegmentParams params_from_json(const json& j, SegmentParams base) {
   return base;
 }
 
-SegmentParams read_params(const std::string& path, SegmentParams base) {
+const auto kSegmentFields = [](auto& p, auto&& f) { fields(p, f); };
+const auto kRecognitionFields = [](auto& p, auto&& f) { recognition_fields(p, f); };
+
+json read_json_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open config file");
-  json j;
   try {
-    j = json::parse(in);
+    return json::parse(in);
   } catch (const json::parse_error& e) {
     throw InputError(path + ": not valid JSON (" + e.what() + ")");
   }
+}
+
+}  // namespace
+
+json to_json(const SegmentParams& params) {
+  return to_json_with(params, kSegmentFields);
+}
+
+SegmentParams params_from_json(const json& j, SegmentParams base) {
+  return from_json_with(j, base, kSegmentFields);
+}
+
+json to_json(const RecognitionParams& params) {
+  return to_json_with(params, kRecognitionFields);
+}
+
+RecognitionParams recognition_params_from_json(const json& j, RecognitionParams base) {
+  return from_json_with(j, base, kRecognitionFields);
+}
+
+std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::string& path,
+                                                                   SegmentParams seg,
+                                                                   RecognitionParams rec) {
+  const json j = read_json_file(path);
+  try {
+    if (!j.is_object()) throw InputError("expected {\"segmentation\": {...}, \"recognition\": {...}}");
+    for (const auto& [key, value] : j.items())
+      if (key != "segmentation" && key != "recognition")
+        throw InputError("config: unknown key " + key +
+                         " (expected \"segmentation\" and/or \"recognition\")");
+    if (j.contains("segmentation")) seg = params_from_json(j.at("segmentation"), seg);
+    if (j.contains("recognition")) rec = recognition_params_from_json(j.at("recognition"), rec);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return {seg, rec};
+}
+
+SegmentParams read_params(const std::string& path, SegmentParams base) {
+  const json j = read_json_file(path);
   try {
     return params_from_json(j, base);
   } catch (const InputError& e) {
@@ -224,6 +315,32 @@ void validate(const SegmentParams& p) {
           "selection.background_plane_distance", ">= 0 metres");
   require(sp.background_inlier_ratio >= 0 && sp.background_inlier_ratio <= 1,
           "selection.background_inlier_ratio", "in [0, 1]");
+  require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
+}
+
+void validate(const RecognitionParams& p) {
+  auto require = [](bool ok, const char* field, const char* expected) {
+    if (!ok) throw InputError(std::string("field ") + field + ": expected " + expected);
+  };
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  const RegistrationParams& r = p.registration;
+  require(r.ransac_iterations >= 1 && r.ransac_iterations <= 10000000,
+          "registration.ransac_iterations", "1 .. 10^7");
+  require(positive(r.ransac_distance), "registration.ransac_distance", "> 0 metres");
+  require(r.edge_similarity >= 0 && r.edge_similarity < 1, "registration.edge_similarity",
+          "in [0, 1)");
+  require(r.normal_tolerance_deg > 0 && r.normal_tolerance_deg <= 180,
+          "registration.normal_tolerance_deg", "in (0, 180] degrees");
+  require(r.ransac_candidates >= 1 && r.ransac_candidates <= 1000,
+          "registration.ransac_candidates", "1 .. 1000");
+  require(r.max_points >= 0, "registration.max_points", ">= 0 (0 = all)");
+  require(r.icp_iterations >= 0 && r.icp_iterations <= 100000, "registration.icp_iterations",
+          "0 .. 100000");
+  require(positive(r.icp_distance), "registration.icp_distance", "> 0 metres");
+  require(positive(r.fitness_distance), "registration.fitness_distance", "> 0 metres");
+  require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
+  require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
+  require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }
 

@@ -284,21 +284,74 @@ std::vector<Mesh> synth_meshes(const SynthParams& params) {
   return out;
 }
 
-RenderParams synth_render_params(const SynthParams& params) {
-  // Camera 1.05 m from a point just above the table centre, looking down at 40 degrees.
-  const double tilt = 40 * kPi / 180, dist = 1.05;
-  const Eigen::Vector3d target(0.0, 0.0, 0.04);
-  const Eigen::Vector3d forward(0, std::cos(tilt), -std::sin(tilt));
-  const Eigen::Vector3d eye = target - dist * forward;
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+Eigen::Isometry3d look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d forward = (target - eye).normalized();
+  // Image x to the right of the world's z-up; straight up or down, the world's x is used.
+  Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ());
+  if (right.norm() < 1e-6) right = forward.cross(Eigen::Vector3d::UnitX());
+  right.normalize();
   const Eigen::Vector3d down = forward.cross(right);
   Eigen::Isometry3d world_from_camera = Eigen::Isometry3d::Identity();
   world_from_camera.linear().col(0) = right;
   world_from_camera.linear().col(1) = down;
   world_from_camera.linear().col(2) = forward;
   world_from_camera.translation() = eye;
+  return world_from_camera.inverse();
+}
+
+std::vector<Eigen::Vector3d> view_sphere(int n) {
+  std::vector<Eigen::Vector3d> dirs;
+  const double golden = kPi * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - (2 * i + 1.0) / n, r = std::sqrt(std::max(0.0, 1 - z * z));
+    dirs.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
+  }
+  return dirs;
+}
+
+std::vector<RenderedView> render_views(const Mesh& mesh, const ViewSphereParams& params) {
+  if (params.views < 1) throw std::invalid_argument("render_views: views must be >= 1");
+  if (mesh.vertices.empty()) throw std::invalid_argument("render_views: empty mesh");
+  Eigen::Vector3d lo = mesh.vertices[0].cast<double>(), hi = lo;
+  for (const auto& v : mesh.vertices) {
+    lo = lo.cwiseMin(v.cast<double>());
+    hi = hi.cwiseMax(v.cast<double>());
+  }
+  const Eigen::Vector3d centre = (lo + hi) / 2;
+  const double distance =
+      params.distance > 0 ? params.distance : std::max(0.6, 3 * (hi - lo).norm());
+  std::vector<RenderedView> out;
+  const auto dirs = view_sphere(params.views);
+  for (int i = 0; i < params.views; ++i) {
+    RenderParams rp;
+    rp.camera = params.camera;
+    rp.depth_noise = params.depth_noise;
+    rp.seed = params.seed + static_cast<std::uint32_t>(i);
+    const Eigen::Vector3d eye = centre + distance * dirs[i];
+    rp.camera_from_world = look_at(eye, centre);
+    const Frame image = render({mesh}, rp);
+    const Eigen::Isometry3d world_from_camera = rp.camera_from_world.inverse();
+    RenderedView v;
+    v.eye = eye;
+    v.points.height = 1;
+    for (std::size_t k = 0; k < image.size(); ++k) {
+      if (!image.valid(k)) continue;
+      v.points.xyz.push_back((world_from_camera * image.xyz[k].cast<double>()).cast<float>());
+      v.points.rgb.push_back(image.rgb[k]);
+    }
+    v.points.width = static_cast<int>(v.points.xyz.size());
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+RenderParams synth_render_params(const SynthParams& params) {
+  // Camera 1.05 m from a point just above the table centre, looking down at 40 degrees.
+  const double tilt = 40 * kPi / 180, dist = 1.05;
+  const Eigen::Vector3d target(0.0, 0.0, 0.04);
+  const Eigen::Vector3d forward(0, std::cos(tilt), -std::sin(tilt));
   RenderParams rp;
-  rp.camera_from_world = world_from_camera.inverse();
+  rp.camera_from_world = look_at(target - dist * forward, target);
   rp.depth_noise = params.depth_noise;
   rp.seed = params.seed;
   return rp;

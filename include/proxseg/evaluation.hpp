@@ -5,6 +5,8 @@
 #include <proxseg/frame.hpp>
 #include <proxseg/metrics.hpp>
 
+#include <Eigen/Core>
+
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -52,5 +54,38 @@ std::string scenes_csv(const std::vector<SceneScores>& scenes);
 std::string summary_markdown(const std::vector<SummaryRow>& rows);
 nlohmann::json summary_json(const std::vector<SummaryRow>& rows);
 nlohmann::json scores_json(const SegmentationScores& s);
+
+// ---- Recognition on YCB-Video frames (../shared/data/ycbv) ----
+
+struct ObjectTruth {
+  std::string name;          // class name from classes.txt
+  int class_index = 0;       // 1-based, the value of its pixels in -label.png
+  Eigen::Matrix4d pose;      // camera <- model (meta.json "poses")
+  std::vector<int> points;   // its pixels (indices into frame) with a valid depth
+};
+struct YcbFrame {
+  Frame frame;  // camera frame, organized
+  std::vector<ObjectTruth> objects;
+};
+// Reads DIR/<stem>-color.png, -depth.png, -label.png and -meta.json; classes from classes.txt.
+YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
+                        const std::vector<std::string>& classes);
+// Non-empty lines of a text file (classes.txt).
+std::vector<std::string> read_lines(const std::string& path);
+
+// The rotational symmetries of a model that are symmetries of its oriented bounding box (the 180
+// degree turns about its axes, and the 90 degree turns about an axis whose two other extents are
+// equal) and that map the model's points onto themselves within tolerance (mean distance), as
+// model-frame transforms about the box centre. The identity is always first.
+std::vector<Eigen::Matrix4d> box_symmetries(const std::vector<Eigen::Vector3d>& model,
+                                            double tolerance);
+struct PoseError {
+  double translation = 0;  // metres
+  double rotation_deg = 0;
+};
+// Error of an estimated pose (camera <- model) against the truth, the least over the truth's
+// symmetric equivalents truth * S.
+PoseError pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
+                     const std::vector<Eigen::Matrix4d>& symmetries);
 
 }  // namespace proxseg

@@ -1,6 +1,7 @@
 // Readers and writers for frames: PCD (ascii, binary, binary_compressed), PLY, colour + depth PNG.
 #pragma once
 #include <proxseg/frame.hpp>
+#include <proxseg/render.hpp>
 
 #include <string>
 #include <vector>
@@ -22,6 +23,11 @@ Frame read_pcd(const std::string& path, const std::string& label_field = "label"
 Frame read_ply(const std::string& path);
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
+// A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models); coordinates are
+// multiplied by scale (0.001 for millimetre models) so that the mesh is in metres.
+Mesh read_mesh(const std::string& path, double scale = 1.0);
+// Plain "x y z" lines (YCB-Video models/points.xyz), metres; '#' comments and blank lines skipped.
+std::vector<Eigen::Vector3d> read_xyz(const std::string& path);
 
 // {"fx":..,"fy":..,"cx":..,"cy":..,"depth_scale":..}
 Intrinsics read_intrinsics(const std::string& path);

@@ -1,6 +1,7 @@
 // Segmentation outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written atomically).
 #pragma once
 #include <proxseg/pipeline.hpp>
+#include <proxseg/recognition.hpp>
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,5 +24,22 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
 // DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the paths written.
 std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
                                           const SegmentResult& result);
+
+// ---- Recognition outputs (proxseg recognize) ----
+
+struct RecognizedObject {
+  int id = 0;               // the candidate's instance id (0 for a cloud given with --object)
+  std::size_t points = 0;   // the candidate's points
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Recognition recognition;
+};
+// One candidate's entry of PREFIX.json: name, fitness, coverage, score, pose (4x4 rows,
+// candidate frame <- model frame), the view, the runner-up and times.
+nlohmann::json recognition_json(const RecognizedObject& object, const Database& db);
+// The scene with every recognised object's aligned model view drawn over it in its own colour
+// and labelled with its name and score (organized input: over the colour image, projected with a
+// pinhole fitted to the cloud; unorganized input: the points seen from the sensor). PNG bytes.
+std::string recognition_image_png(const Frame& frame, const std::vector<RecognizedObject>& objects,
+                                  const Database& db);
 
 }  // namespace proxseg

@@ -1,6 +1,7 @@
 // SegmentParams <-> JSON, for config files (--config) and for echoing into every report.
 #pragma once
 #include <proxseg/pipeline.hpp>
+#include <proxseg/recognition.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -18,5 +19,16 @@ SegmentParams preset(const std::string& name);
 
 // Checks ranges (voxel size > 0, weights >= 0, ...); throws InputError naming the field.
 void validate(const SegmentParams& params);
+
+// RecognitionParams <-> JSON, the same way.
+nlohmann::json to_json(const RecognitionParams& params);
+RecognitionParams recognition_params_from_json(const nlohmann::json& j,
+                                               RecognitionParams base = {});
+void validate(const RecognitionParams& params);
+// A `proxseg recognize --config` file: {"segmentation": {...}, "recognition": {...}}, either
+// part optional, each laid out like the report's "parameters".
+std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::string& path,
+                                                                  SegmentParams seg,
+                                                                  RecognitionParams rec);
 
 }  // namespace proxseg

@@ -47,6 +47,27 @@ Mesh make_box(const Eigen::Isometry3d& pose, const Eigen::Vector3d& size, const 
 Mesh make_cylinder(const Eigen::Isometry3d& pose, double radius, double height,
                    const ColourFn& colour, double cell = 0.005);
 
+// Partial views of one mesh for a model database [3.4, Fig. 2 right]: the virtual camera is put
+// on a sphere around the mesh's bounding-box centre, looking at it, and the visible surface is
+// kept (z-buffer), with the mesh's vertex colours and optional depth noise.
+struct ViewSphereParams {
+  int views = 8;
+  double distance = 0;  // camera to centre, metres; 0 = max(0.6, 3 x the mesh's diameter)
+  Camera camera;
+  double depth_noise = 0;  // as RenderParams::depth_noise
+  std::uint32_t seed = 1;  // view i uses seed + i
+};
+struct RenderedView {
+  Frame points;         // valid points only, in the mesh's frame (unorganized)
+  Eigen::Vector3d eye;  // the camera centre in the mesh's frame
+};
+// n unit directions spread evenly over the sphere (Fibonacci lattice); the same n gives the same
+// directions.
+std::vector<Eigen::Vector3d> view_sphere(int n);
+// camera_from_world of a camera at eye looking at target (image y down, z forward).
+Eigen::Isometry3d look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
+std::vector<RenderedView> render_views(const Mesh& mesh, const ViewSphereParams& params);
+
 struct SynthParams {
   std::uint32_t seed = 1;
   double depth_noise = 0.0015;  // metres at 1 m

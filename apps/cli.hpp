@@ -1,0 +1,73 @@
+// Pieces shared by the commands of the proxseg CLI (apps/proxseg.cpp, apps/db.cpp,
+// apps/recognize.cpp).
+#pragma once
+#include <proxseg/frame.hpp>
+#include <proxseg/pipeline.hpp>
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cli {
+
+// The scene input and the segmentation flags of `segment` and `recognize`.
+struct SegmentOptions {
+  std::string input, color, depth, intrinsics, meta;
+  std::string preset = "default";
+  bool no_mrf = false;
+  std::optional<std::string> mrf_method;
+  std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
+      shape_weight, cluster_tolerance;
+  std::optional<int> min_points, pca_dims, threads, min_candidate_points;
+  bool no_colour = false, no_texture = false, no_shape = false;
+};
+void add_scene_options(CLI::App* cmd, SegmentOptions& o);
+// Usage checks: INPUT or an RGB-D pair, and no output path equal to an input.
+void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs);
+// base (preset, config) < individual flags; validated.
+proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams base);
+proxseg::Frame read_input(const SegmentOptions& o);
+// Creates the parent directory of path (InputError if it cannot).
+void make_parent(const std::string& path);
+
+// A progress bar on stderr for batch work: redrawn in place on a terminal, one line per step
+// otherwise (logs stay readable in CI).
+class Progress {
+ public:
+  explicit Progress(std::size_t total);
+  void step(const std::string& what);
+
+ private:
+  std::size_t total_, done_ = 0;
+  bool tty_;
+};
+
+// `proxseg db add|render|info`
+struct DbOptions {
+  std::string dir, name, xyz, mesh, units = "m";
+  std::vector<std::string> views;
+  bool accumulate = false, json = false;
+  int render_views = 8;
+  double distance = 0, noise = 0;
+  unsigned seed = 1;
+  std::optional<double> voxel_size, normal_radius;
+  std::vector<double> fpfh_radii;
+  CLI::App *add = nullptr, *render = nullptr, *info = nullptr;
+};
+void add_db(CLI::App& app, DbOptions& o);
+int run_db(const DbOptions& o);
+
+// `proxseg recognize`
+struct RecognizeOptions : SegmentOptions {
+  std::string db, output, object, config;
+  std::optional<std::string> score;
+  std::optional<double> min_score, early_exit, fitness_distance;
+  std::optional<int> ransac_iterations, icp_iterations;
+  std::optional<std::uint64_t> seed;
+  bool point_to_plane = false, json = false;
+};
+void add_recognize(CLI::App& app, RecognizeOptions& o);
+int run_recognize(const RecognizeOptions& o);
+
+}  // namespace cli

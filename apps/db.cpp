@@ -1,0 +1,176 @@
+// `proxseg db add|render|info`: build and inspect a model database [paper 3.4].
+#include <proxseg/database.hpp>
+#include <proxseg/io.hpp>
+#include <proxseg/render.hpp>
+
+#include <cmath>
+#include <iostream>
+
+#include "cli.hpp"
+
+namespace cli {
+
+using proxseg::InputError;
+
+void add_db(CLI::App& app, DbOptions& o) {
+  auto* db = app.add_subcommand("db", "Build or inspect a model database (paper 3.4)");
+  db->require_subcommand(1);
+  const auto descriptor = [&](CLI::App* cmd) {
+    cmd->add_option("--voxel-size", o.voxel_size,
+                    "New database only: voxel-grid filter of views and candidates, metres");
+    cmd->add_option("--normal-radius", o.normal_radius, "New database only: normal radius, metres");
+    cmd->add_option("--fpfh-radii", o.fpfh_radii, "New database only: FPFH radii, metres")
+        ->delimiter(',');
+  };
+  o.add = db->add_subcommand("add", "Add views of an object: PCD files, or a plain xyz model");
+  o.add->add_option("db", o.dir, "Database directory (created if missing)")->required();
+  o.add->add_option("--name", o.name, "Object name")->required();
+  o.add->add_option("views", o.views, "View clouds (.pcd or .ply), one view each");
+  o.add->add_flag("--accumulate", o.accumulate,
+                  "Accumulate all given clouds into one view (several frames of one viewpoint)");
+  o.add->add_option("--xyz", o.xyz, "A full model as plain 'x y z' lines in metres (YCB-Video)");
+  descriptor(o.add);
+  o.render = db->add_subcommand(
+      "render", "Render partial views of a coloured mesh with a virtual depth camera and add them");
+  o.render->add_option("db", o.dir, "Database directory (created if missing)")->required();
+  o.render->add_option("--name", o.name, "Object name")->required();
+  o.render->add_option("mesh", o.mesh, "Mesh (.ply with vertex colours)")->required();
+  o.render->add_option("--views", o.render_views, "Number of views (cameras on a sphere)")
+      ->check(CLI::Range(1, 1000));
+  o.render->add_option("--units", o.units, "Units of the mesh coordinates: mm or m")
+      ->check(CLI::IsMember({"mm", "m"}));
+  o.render->add_option("--distance", o.distance,
+                       "Camera distance from the mesh centre, metres (0 = automatic)");
+  o.render->add_option("--noise", o.noise, "Depth noise std at 1 m, metres (0 = none)");
+  o.render->add_option("--seed", o.seed, "Seed of the depth noise");
+  descriptor(o.render);
+  o.info = db->add_subcommand("info", "List the objects and views of a database");
+  o.info->add_option("db", o.dir, "Database directory")->required();
+  o.info->add_flag("--json", o.json, "Print JSON");
+}
+
+namespace {
+
+proxseg::Database open_for_adding(const DbOptions& o) {
+  proxseg::DescriptorParams d;
+  if (o.voxel_size) d.voxel_size = *o.voxel_size;
+  if (o.normal_radius) d.normal_radius = *o.normal_radius;
+  if (!o.fpfh_radii.empty()) d.fpfh_radii = o.fpfh_radii;
+  if (!(d.voxel_size > 0) || !std::isfinite(d.voxel_size))
+    throw InputError("--voxel-size: expected a positive size in metres");
+  if (!(d.normal_radius > 0) || !std::isfinite(d.normal_radius))
+    throw InputError("--normal-radius: expected a positive radius in metres");
+  for (double r : d.fpfh_radii)
+    if (!(r > 0) || !std::isfinite(r)) throw InputError("--fpfh-radii: expected positive radii");
+  proxseg::Database db = proxseg::open_database(o.dir, d);
+  const bool given = o.voxel_size || o.normal_radius || !o.fpfh_radii.empty();
+  if (given && !db.views.empty() &&
+      (db.descriptor.voxel_size != d.voxel_size || db.descriptor.normal_radius != d.normal_radius ||
+       db.descriptor.fpfh_radii != d.fpfh_radii))
+    throw InputError(o.dir +
+                     ": the database exists with other descriptor parameters (see `proxseg db "
+                     "info`); --voxel-size, --normal-radius and --fpfh-radii apply to a new one");
+  return db;
+}
+
+void report(const proxseg::ModelView& v) {
+  std::cerr << "proxseg: added " << v.object << " view " << v.file << " (" << v.cloud.size()
+            << " points) from " << v.source << "\n";
+}
+
+int run_add(const DbOptions& o) {
+  if (o.xyz.empty() == o.views.empty())
+    throw CLI::ValidationError("give view clouds or --xyz FILE (not both)");
+  if (!o.xyz.empty() && o.accumulate)
+    throw CLI::ValidationError("--accumulate goes with view clouds, not --xyz");
+  // Read everything before touching the database: bad input leaves it as it was.
+  std::vector<std::pair<proxseg::Frame, std::string>> views;
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the sensor of a captured view
+  if (!o.xyz.empty()) {
+    proxseg::Frame f;
+    for (const auto& p : proxseg::read_xyz(o.xyz)) f.xyz.push_back(p.cast<float>());
+    f.rgb.assign(f.xyz.size(), proxseg::Rgb{128, 128, 128});
+    f.width = static_cast<int>(f.xyz.size());
+    f.height = 1;
+    views.emplace_back(std::move(f), o.xyz);
+    viewpoint = Eigen::Vector3d::Constant(std::nan(""));  // a full model: seen from everywhere
+  } else if (o.accumulate) {
+    proxseg::Frame all;
+    std::string source;
+    for (const auto& file : o.views) {
+      const proxseg::Frame f = proxseg::read_point_cloud(file);
+      for (std::size_t i = 0; i < f.size(); ++i)
+        if (f.valid(i)) {
+          all.xyz.push_back(f.xyz[i]);
+          all.rgb.push_back(f.rgb[i]);
+        }
+      source += (source.empty() ? "" : " + ") + file;
+    }
+    all.width = static_cast<int>(all.xyz.size());
+    all.height = 1;
+    views.emplace_back(std::move(all), source);
+  } else {
+    for (const auto& file : o.views) views.emplace_back(proxseg::read_point_cloud(file), file);
+  }
+  proxseg::Database db = open_for_adding(o);
+  for (const auto& [frame, source] : views)
+    report(proxseg::add_view(db, o.name, frame, viewpoint, source));
+  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
+            << " views\n";
+  return 0;
+}
+
+int run_render(const DbOptions& o) {
+  if (!(o.distance >= 0) || !std::isfinite(o.distance))
+    throw InputError("--distance: expected metres >= 0");
+  if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise: expected metres in [0, 1)");
+  const proxseg::Mesh mesh = proxseg::read_mesh(o.mesh, o.units == "mm" ? 0.001 : 1.0);
+  proxseg::ViewSphereParams p;
+  p.views = o.render_views;
+  p.distance = o.distance;
+  p.depth_noise = o.noise;
+  p.seed = o.seed;
+  const auto rendered = proxseg::render_views(mesh, p);
+  proxseg::Database db = open_for_adding(o);
+  for (std::size_t i = 0; i < rendered.size(); ++i) {
+    const auto& e = rendered[i].eye;
+    char source[256];
+    std::snprintf(source, sizeof source, "%s view %zu/%d, camera at (%.3f, %.3f, %.3f) m",
+                  o.mesh.c_str(), i + 1, o.render_views, e.x(), e.y(), e.z());
+    if (rendered[i].points.size() < 10) {
+      std::cerr << "proxseg: warning: " << source << " sees almost nothing; skipped\n";
+      continue;
+    }
+    report(proxseg::add_view(db, o.name, rendered[i].points, e, source));
+  }
+  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
+            << " views\n";
+  return 0;
+}
+
+int run_info(const DbOptions& o) {
+  const proxseg::Database db = proxseg::load_database(o.dir);
+  const nlohmann::json info = proxseg::database_info(db);
+  if (o.json) {
+    std::cout << info.dump(2) << "\n";
+    return 0;
+  }
+  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
+            << " views, voxel " << db.descriptor.voxel_size << " m, FPFH radii";
+  for (double r : db.descriptor.fpfh_radii) std::cout << " " << r;
+  std::cout << " m\n";
+  for (const auto& obj : info["objects"])
+    std::cout << "  " << obj["name"].get<std::string>() << ": " << obj["views"] << " views, "
+              << obj["points"] << " points\n";
+  return 0;
+}
+
+}  // namespace
+
+int run_db(const DbOptions& o) {
+  if (o.add->parsed()) return run_add(o);
+  if (o.render->parsed()) return run_render(o);
+  return run_info(o);
+}
+
+}  // namespace cli

@@ -1,0 +1,112 @@
+// Registration [paper 3.4, Algorithm 2]: align a model view to a candidate object (centroid
+// shift, FPFH, RANSAC on feature correspondences, ICP) and score the alignment (eq. 4-5).
+#pragma once
+#include <proxseg/frame.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// How clouds are described. Fixed per model database: a candidate must be described exactly as
+// the views it is compared with, so these live in the database index.
+struct DescriptorParams {
+  double voxel_size = 0.005;  // voxel-grid filter before everything else [3.4], metres
+  double normal_radius = 0.01;
+  // FPFH support radii (the paper lists several per run, 3-50 mm). Each radius gives 33 bins;
+  // how they combine is RegistrationParams::multi_radius (docs/method.md, "Recognition").
+  std::vector<double> fpfh_radii = {0.015, 0.03};
+};
+
+enum class MultiRadius {
+  kConcatenate,  // one descriptor of 33 x radii bins, one RANSAC
+  kBestOf,       // one RANSAC per radius, the best of them goes on to ICP
+};
+
+struct RegistrationParams {
+  MultiRadius multi_radius = MultiRadius::kConcatenate;
+  int ransac_iterations = 1000;   // hypotheses that pass the edge test (paper: 100 / 200)
+  double ransac_distance = 0.01;  // inlier distance of a correspondence under a hypothesis
+  double edge_similarity = 0.9;   // sample pre-rejection: edge-length ratio between the clouds
+  double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
+  int ransac_candidates = 8;      // best distinct hypotheses re-judged by their true overlap
+  bool mutual_filter = false;     // keep only mutually nearest feature pairs
+  // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
+  // use all of them). Matching costs candidate x view points per view.
+  int max_points = 400;
+  int icp_iterations = 30;        // upper bound; stops earlier when converged (paper: 100-200)
+  double icp_distance = 0.015;    // ICP correspondences farther than this are ignored
+  bool point_to_plane = false;    // the paper's ICP is point-to-point
+  double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
+  // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
+  // that a box face is not explained by the flat top of a can of about the same size.
+  double score_distance = 0.005;
+};
+
+// A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
+// its viewpoint, FPFH features (one column per point) and search indexes.
+struct SearchIndex;  // kd-trees over points and features (src/registration.cpp)
+struct Cloud {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::MatrixXd features;  // (33 * radii) x points
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the sensor, in the cloud's frame
+  double spacing = 0;                                   // median nearest-neighbour distance
+  std::shared_ptr<const SearchIndex> index;
+  std::size_t size() const { return points.size(); }
+};
+
+// The deterministic voxel-grid filter: one point (the mean) per occupied cell, in cell order;
+// non-finite points are dropped. With colours, out_colours gets each cell's mean colour.
+std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& points,
+                                          double voxel_size,
+                                          const std::vector<Rgb>* colours = nullptr,
+                                          std::vector<Rgb>* out_colours = nullptr);
+// Filters, then describe_filtered().
+Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
+               const DescriptorParams& params);
+// Estimates normals (oriented towards viewpoint; away from the centroid when the viewpoint is not
+// finite, for full models), computes FPFH and builds the indexes. Points and features are
+// rounded to float first, so a cloud restored from its PCD and cache is the same cloud.
+// Throws InputError when there are fewer than 10 points.
+Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
+                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params);
+// Rebuilds a described cloud from stored points, normals and features (database cache).
+Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
+              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint);
+
+// The result of aligning one model view to one candidate.
+struct Alignment {
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
+  double fitness = 0;  // eq. 5: share of candidate points within delta_th of the aligned view
+  double close_fitness = 0;  // the same within score_distance
+  double coverage = 0;  // share of the view's points visible from the candidate's viewpoint
+                        // that have a candidate point within score_distance (model-side term)
+  double rmse = 0;      // of the fitness inliers
+  int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
+  double ransac_ms = 0, icp_ms = 0, score_ms = 0;
+};
+
+// Algorithm 2 for one (candidate, view) pair; `seed` drives the RANSAC samples, so the result
+// depends only on the inputs and the seed.
+Alignment align(const Cloud& candidate, const Cloud& view, const RegistrationParams& params,
+                std::uint64_t seed);
+// The same with the candidate's sample (subsample(candidate, params.max_points)) made once by
+// the caller, when one candidate meets many views.
+Alignment align(const Cloud& candidate, const Cloud& sample, const Cloud& view,
+                const RegistrationParams& params, std::uint64_t seed);
+// At most max_points points of the cloud, evenly spaced in its order (the cloud itself if it
+// has no more; max_points <= 0: all).
+Cloud subsample(const Cloud& cloud, int max_points);
+
+// Eq. 4-5 and the model-side term for a given pose (candidate <- model).
+double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+               double delta, double* rmse = nullptr);
+double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                double delta);
+
+}  // namespace proxseg
