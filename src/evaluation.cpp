@@ -329,4 +329,13 @@ PoseError pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& tru
   return best;
 }
 
+PoseError axial_pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
+                           const Eigen::Vector3d& centre, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d a = estimate.topLeftCorner<3, 3>() * axis.normalized();
+  const Eigen::Vector3d b = truth.topLeftCorner<3, 3>() * axis.normalized();
+  const Eigen::Vector3d ca = estimate.topLeftCorner<3, 3>() * centre + estimate.topRightCorner<3, 1>();
+  const Eigen::Vector3d cb = truth.topLeftCorner<3, 3>() * centre + truth.topRightCorner<3, 1>();
+  return {(ca - cb).norm(), std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / M_PI};
+}
+
 }  // namespace proxseg

@@ -80,6 +80,7 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "mutual_filter", p.registration.mutual_filter);
   f("registration", "max_points", p.registration.max_points);
   f("registration", "icp_iterations", p.registration.icp_iterations);
+  f("registration", "icp_starts", p.registration.icp_starts);
   f("registration", "icp_distance", p.registration.icp_distance);
   f("registration", "point_to_plane", p.registration.point_to_plane);
   f("registration", "fitness_distance", p.registration.fitness_distance);
@@ -336,6 +337,7 @@ void validate(const RecognitionParams& p) {
   require(r.max_points >= 0, "registration.max_points", ">= 0 (0 = all)");
   require(r.icp_iterations >= 0 && r.icp_iterations <= 100000, "registration.icp_iterations",
           "0 .. 100000");
+  require(r.icp_starts >= 1 && r.icp_starts <= 100, "registration.icp_starts", "1 .. 100");
   require(positive(r.icp_distance), "registration.icp_distance", "> 0 metres");
   require(positive(r.fitness_distance), "registration.fitness_distance", "> 0 metres");
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");

@@ -131,6 +131,13 @@ double median_spacing(const Cloud& c) {
   return d[d.size() / 2];
 }
 
+// Rounds to the nearest float, component by component: what a cloud stores in its PCD and cache.
+Eigen::Vector3d round_to_float(const Eigen::Vector3d& v) {
+  return {static_cast<double>(static_cast<float>(v.x())),
+          static_cast<double>(static_cast<float>(v.y())),
+          static_cast<double>(static_cast<float>(v.z()))};
+}
+
 Eigen::Vector3d mean(const std::vector<Eigen::Vector3d>& p) {
   Eigen::Vector3d s = Eigen::Vector3d::Zero();
   for (const auto& x : p) s += x;
@@ -220,8 +227,9 @@ bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance
 // correspondences they explain, which needs no nearest-neighbour search; the few best distinct
 // ones are refitted on their inliers and judged by their true overlap with the view, because on
 // boxes and cans many wrong poses explain as many feature pairs as the right one.
-Hypothesis ransac(const Cloud& cand, const Cloud& view, const std::vector<std::pair<int, int>>& c,
-                  const RegistrationParams& p, std::mt19937_64& rng) {
+std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
+                               const std::vector<std::pair<int, int>>& c,
+                               const RegistrationParams& p, std::mt19937_64& rng) {
   std::vector<Hypothesis> top;  // best first, pairwise distinct
   if (c.size() < 3) return {};
   std::uniform_int_distribution<std::size_t> pick(0, c.size() - 1);
@@ -305,16 +313,21 @@ Hypothesis ransac(const Cloud& cand, const Cloud& view, const std::vector<std::p
     const int n = inliers(t, nullptr, nullptr);
     if (n >= 3) keep({t, n, 0});
   }
-  Hypothesis best;
-  for (Hypothesis h : top) {
+  for (Hypothesis& h : top) {
     std::vector<Eigen::Vector3d> a, b;
     inliers(h.pose, &a, &b);
     const Eigen::Matrix4d refit = kabsch(a, b);
     if (inliers(refit, nullptr, nullptr) >= h.inliers) h.pose = refit;
-    h.overlap = fitness(cand, view, h.pose, p.ransac_distance);
-    if (h.overlap > best.overlap) best = h;
+    // Judged like the recognition score: the share of the candidate the view explains and the
+    // share of the visible view the candidate explains (a box turned by 90 degrees can explain
+    // the candidate as well as the right pose, but not be explained by it).
+    h.overlap = std::sqrt(fitness(cand, view, h.pose, p.ransac_distance) *
+                          coverage(cand, view, h.pose, p.ransac_distance));
   }
-  return best;
+  std::stable_sort(top.begin(), top.end(), [](const Hypothesis& x, const Hypothesis& y) {
+    return x.overlap > y.overlap;
+  });
+  return top;
 }
 
 // ICP refinement. The candidate's points are matched into the view's kd-tree (built once, when
@@ -411,7 +424,7 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
   open3d::geometry::PointCloud pc;
   pc.points_.reserve(points.size());
   for (const auto& p : points)
-    if (p.allFinite()) pc.points_.push_back(p.cast<float>().cast<double>());
+    if (p.allFinite()) pc.points_.push_back(round_to_float(p));
   if (pc.points_.size() < 10)
     throw InputError("cloud has " + std::to_string(pc.points_.size()) +
                      " points after the voxel filter (expected at least 10)");
@@ -426,14 +439,15 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
     const Eigen::Vector3d out = from_viewpoint ? Eigen::Vector3d(viewpoint - c.points[i])
                                                : Eigen::Vector3d(c.points[i] - c.centroid);
     if (n.dot(out) < 0) n = -n;
-    pc.normals_[i] = n.cast<float>().cast<double>();
+    pc.normals_[i] = round_to_float(n);
   }
   c.normals = pc.normals_;
   c.features.resize(kFpfhBins * params.fpfh_radii.size(), c.size());
   for (std::size_t b = 0; b < params.fpfh_radii.size(); ++b) {
     const auto f = open3d::pipelines::registration::ComputeFPFHFeature(
         pc, open3d::geometry::KDTreeSearchParamHybrid(params.fpfh_radii[b], 100));
-    c.features.middleRows(b * kFpfhBins, kFpfhBins) = f->data_.cast<float>().cast<double>();
+    c.features.middleRows(b * kFpfhBins, kFpfhBins) =
+        f->data_.unaryExpr([](double x) { return static_cast<double>(static_cast<float>(x)); });
   }
   c.index = build_index(c);
   c.spacing = median_spacing(c);
@@ -533,29 +547,48 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   auto t0 = Clock::now();
   std::mt19937_64 rng(seed);
   const int blocks = static_cast<int>(view.features.rows()) / kFpfhBins;
-  Hypothesis best;
+  std::vector<Hypothesis> top;
   if (params.multi_radius == MultiRadius::kBestOf && blocks > 1) {
     for (int b = 0; b < blocks; ++b) {
       const auto corr = correspondences(candidate, view, b, params.mutual_filter);
-      const Hypothesis h = ransac(candidate, view, corr, params, rng);
+      auto h = ransac(candidate, view, corr, params, rng);
       a.correspondences = std::max<int>(a.correspondences, corr.size());
-      if (b == 0 || h.overlap > best.overlap) best = h;
+      top.insert(top.end(), h.begin(), h.end());
     }
+    std::stable_sort(top.begin(), top.end(), [](const Hypothesis& x, const Hypothesis& y) {
+      return x.overlap > y.overlap;
+    });
   } else {
     const auto corr = correspondences(candidate, view, -1, params.mutual_filter);
     a.correspondences = static_cast<int>(corr.size());
-    best = ransac(candidate, view, corr, params, rng);
+    top = ransac(candidate, view, corr, params, rng);
   }
-  a.ransac_inliers = best.inliers;
   // Algorithm 2 starts from the centroid shift: without a RANSAC hypothesis, the view's
   // centroid is put on the candidate's and ICP starts from there.
-  if (best.inliers < 3 || best.overlap <= 0) {
-    best.pose = Eigen::Matrix4d::Identity();
-    best.pose.topRightCorner<3, 1>() = candidate.centroid - view.centroid;
+  if (top.empty() || top[0].overlap <= 0) {
+    Hypothesis h;
+    h.pose.topRightCorner<3, 1>() = candidate.centroid - view.centroid;
+    top.assign(1, h);
   }
+  a.ransac_inliers = top[0].inliers;
   a.ransac_ms = ms_since(t0);
   t0 = Clock::now();
-  a.pose = icp(candidate, view, best.pose, params, a.icp_iterations);
+  // ICP from the best few hypotheses; near-symmetric objects (boxes, bricks) have several
+  // hypotheses of almost equal overlap, and only after ICP does the right one stand out.
+  double best = -1;
+  const int starts = std::min<int>(std::max(1, params.icp_starts), static_cast<int>(top.size()));
+  for (int k = 0; k < starts; ++k) {
+    int iterations = 0;
+    const Eigen::Matrix4d pose = icp(candidate, view, top[k].pose, params, iterations);
+    const double score = starts == 1 ? 0
+                                     : std::sqrt(fitness(candidate, view, pose, params.score_distance) *
+                                                 coverage(candidate, view, pose, params.score_distance));
+    if (score > best) {
+      best = score;
+      a.pose = pose;
+      a.icp_iterations = iterations;
+    }
+  }
   a.icp_ms = ms_since(t0);
   t0 = Clock::now();
   a.fitness = fitness(candidate_all, view, a.pose, params.fitness_distance, &a.rmse);

@@ -57,7 +57,9 @@ void expect_input_error(const CliRun& r, const std::string& name, const fs::path
 }  // namespace
 
 TEST(Cli, HelpOnEveryCommand) {
-  for (const char* cmd : {"--help", "segment --help", "synth --help", "eval-seg --help"}) {
+  for (const char* cmd : {"--help", "segment --help", "synth --help", "eval-seg --help",
+                          "db --help", "db add --help", "db render --help", "db info --help",
+                          "recognize --help"}) {
     const CliRun r = run(cmd);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
@@ -297,4 +299,65 @@ TEST(Cli, EvalSegBatchWritesCsvAndSummaries) {
   r = run("eval-seg --batch " + dir.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("| proxseg default | boxes | 1 |"), std::string::npos) << r.out;
+}
+
+// The recognition issue's first acceptance run through the CLI: a database of the milk carton
+// plus two rendered LINEMOD objects, then `recognize` on the real scene.
+TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
+  const fs::path db = kTmp / "milkdb";
+  fs::remove_all(db);
+  CliRun r = run("db add " + db.string() + " --name milk " + kData + "/pcl/milk.pcd");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const auto& [id, name] : {std::pair{"01", "ape"}, std::pair{"05", "can"}}) {
+    r = run("db render " + db.string() + " --name " + name + " " + kData + "/lmo/models/obj_0000" +
+            id + ".ply --views 4 --units mm");
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  r = run("db info " + db.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto info = nlohmann::json::parse(r.out);
+  EXPECT_EQ(info["views"], 9);
+  EXPECT_EQ(info["objects"].size(), 3u);
+  EXPECT_TRUE(fs::exists(db / "index.json"));
+
+  const fs::path o = kTmp / "milk_rec";
+  r = run("recognize " + kData + "/pcl/milk_cartoon_all_small_clorox.pcd --db " + db.string() +
+          " -o " + o.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(r.out);
+  EXPECT_EQ(report, nlohmann::json::parse(slurp(o.string() + ".json")));
+  int milk = 0;
+  for (const auto& c : report["candidates"])
+    if (c["name"] == "milk") {
+      ++milk;
+      EXPECT_GE(c["fitness"].get<double>(), 0.9);
+      EXPECT_EQ(c["pose"].size(), 4u);
+      EXPECT_TRUE(c.contains("runner_up"));
+    }
+  EXPECT_EQ(milk, 1);
+  EXPECT_TRUE(report["parameters"].contains("recognition"));
+  EXPECT_TRUE(report["parameters"].contains("segmentation"));
+  const cv::Mat png = cv::imread(o.string() + ".png");
+  EXPECT_EQ(png.cols, 640);
+  EXPECT_EQ(png.rows, 480);
+
+  // One segmented cloud.
+  r = run("recognize --object " + kData + "/pcl/milk.pcd --db " + db.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("milk"), std::string::npos) << r.out;
+
+  // Bad input: a missing view file and a config with an unknown key.
+  fs::copy(db, kTmp / "milkdb_broken", fs::copy_options::recursive |
+                                           fs::copy_options::overwrite_existing);
+  fs::remove(kTmp / "milkdb_broken" / "views" / "milk-000.pcd");
+  const fs::path bad = kTmp / "milk_bad";
+  expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " +
+                         (kTmp / "milkdb_broken").string() + " -o " + bad.string()),
+                     "milk-000.pcd", bad);
+  std::ofstream(kTmp / "rec_unknown.json") << R"({"recognition": {"ransac_iters": 5}})";
+  expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " + db.string() +
+                         " --config " + (kTmp / "rec_unknown.json").string()),
+                     "ransac_iters", bad);
+  EXPECT_EQ(run("recognize --db " + db.string()).code, 2);
+  EXPECT_EQ(run("db add " + db.string() + " --name x").code, 2);
 }

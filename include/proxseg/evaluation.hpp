@@ -87,5 +87,10 @@ struct PoseError {
 // symmetric equivalents truth * S.
 PoseError pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
                      const std::vector<Eigen::Matrix4d>& symmetries);
+// The error of a pose of an object that looks the same under any turn about an axis (model
+// frame: a point and a direction), e.g. a mug whose handle is hidden: the angle between the
+// estimated and true axes and the distance between the estimated and true positions of centre.
+PoseError axial_pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
+                           const Eigen::Vector3d& centre, const Eigen::Vector3d& axis);
 
 }  // namespace proxseg

@@ -32,12 +32,13 @@ struct RegistrationParams {
   double ransac_distance = 0.01;  // inlier distance of a correspondence under a hypothesis
   double edge_similarity = 0.9;   // sample pre-rejection: edge-length ratio between the clouds
   double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
-  int ransac_candidates = 8;      // best distinct hypotheses re-judged by their true overlap
+  int ransac_candidates = 30;     // best distinct hypotheses re-judged by their true overlap
   bool mutual_filter = false;     // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
   int max_points = 400;
   int icp_iterations = 30;        // upper bound; stops earlier when converged (paper: 100-200)
+  int icp_starts = 3;             // ICP runs from the best this many RANSAC hypotheses
   double icp_distance = 0.015;    // ICP correspondences farther than this are ignored
   bool point_to_plane = false;    // the paper's ICP is point-to-point
   double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
@@ -71,7 +72,8 @@ Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d
                const DescriptorParams& params);
 // Estimates normals (oriented towards viewpoint; away from the centroid when the viewpoint is not
 // finite, for full models), computes FPFH and builds the indexes. Points and features are
-// rounded to float first, so a cloud restored from its PCD and cache is the same cloud.
+// rounded to float first (the PCD stores floats); normals and features are cached as floats,
+// so a cloud restored from its PCD and cache equals this one to float precision.
 // Throws InputError when there are fewer than 10 points.
 Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
                         const Eigen::Vector3d& viewpoint, const DescriptorParams& params);
