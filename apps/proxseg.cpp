@@ -11,12 +11,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli.hpp"
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include "cli.hpp"
 
 namespace cli {
 

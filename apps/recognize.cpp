@@ -56,7 +56,8 @@ double ms_since(Clock::time_point t) {
 
 proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
                                               proxseg::RecognitionParams p) {
-  if (o.score) p.score = *o.score == "fitness" ? proxseg::Score::kFitness : proxseg::Score::kSymmetric;
+  if (o.score)
+    p.score = *o.score == "fitness" ? proxseg::Score::kFitness : proxseg::Score::kSymmetric;
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
@@ -142,7 +143,8 @@ int run_recognize(const RecognizeOptions& o) {
       std::vector<Eigen::Vector3d> points;
       for (int i : c->points) points.push_back(frame.xyz[i].cast<double>());
       objects.push_back(recognise(points, static_cast<int>(c->instance), db, rec));
-      progress.step("candidate " + std::to_string(c->instance) + ": " + objects.back().recognition.name);
+      progress.step("candidate " + std::to_string(c->instance) + ": " +
+                    objects.back().recognition.name);
     }
   }
   const double recognize_ms = ms_since(t);

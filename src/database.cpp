@@ -117,8 +117,8 @@ T field(const std::string& where, const nlohmann::json& j, const char* name) {
   try {
     return j.at(name).get<T>();
   } catch (const nlohmann::json::exception&) {
-    fail(where, std::string("field \"") + name + "\" has the wrong type (" +
-                    j.at(name).type_name() + ")");
+    fail(where,
+         std::string("field \"") + name + "\" has the wrong type (" + j.at(name).type_name() + ")");
   }
 }
 
@@ -196,11 +196,10 @@ Database load_database(const std::string& dir) {
       const std::string where = path + " object " + name;
       mv.file = field<std::string>(where, v, "file");
       mv.features = field<std::string>(where, v, "features");
-      mv.source = v.contains("source") && v["source"].is_string() ? v["source"].get<std::string>()
-                                                                  : "";
+      mv.source =
+          v.contains("source") && v["source"].is_string() ? v["source"].get<std::string>() : "";
       const std::string pcd = (fs::path(dir) / mv.file).string();
-      if (!fs::exists(pcd))
-        fail(pcd, "is missing (view of " + name + " listed in " + path + ")");
+      if (!fs::exists(pcd)) fail(pcd, "is missing (view of " + name + " listed in " + path + ")");
       const Frame f = read_pcd(pcd);
       std::vector<Eigen::Vector3d> points;
       for (std::size_t i = 0; i < f.size(); ++i)
@@ -260,7 +259,8 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   Frame out;
   out.width = static_cast<int>(v.cloud.size());
   out.height = 1;
-  for (std::size_t i = 0; i < v.cloud.size(); ++i) out.xyz.push_back(v.cloud.points[i].cast<float>());
+  for (std::size_t i = 0; i < v.cloud.size(); ++i)
+    out.xyz.push_back(v.cloud.points[i].cast<float>());
   out.rgb = colours;
   write_pcd((fs::path(db.dir) / v.file).string(), out, {});
   write_file_atomic((fs::path(db.dir) / v.features).string(), cache_bytes(v.cloud));

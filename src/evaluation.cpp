@@ -258,8 +258,8 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
     const auto& id = ids[n].is_array() ? ids[n][0] : ids[n];
     o.class_index = id.get<int>();
     if (o.class_index < 1 || o.class_index > static_cast<int>(classes.size()))
-      throw InputError(meta_path + ": cls_indexes[" + std::to_string(n) + "] = " +
-                       std::to_string(o.class_index) + " is not a class of classes.txt");
+      throw InputError(meta_path + ": cls_indexes[" + std::to_string(n) +
+                       "] = " + std::to_string(o.class_index) + " is not a class of classes.txt");
     o.name = classes[o.class_index - 1];
     o.pose.setIdentity();
     for (int r = 0; r < 3; ++r)
@@ -333,7 +333,8 @@ PoseError axial_pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4
                            const Eigen::Vector3d& centre, const Eigen::Vector3d& axis) {
   const Eigen::Vector3d a = estimate.topLeftCorner<3, 3>() * axis.normalized();
   const Eigen::Vector3d b = truth.topLeftCorner<3, 3>() * axis.normalized();
-  const Eigen::Vector3d ca = estimate.topLeftCorner<3, 3>() * centre + estimate.topRightCorner<3, 1>();
+  const Eigen::Vector3d ca =
+      estimate.topLeftCorner<3, 3>() * centre + estimate.topRightCorner<3, 1>();
   const Eigen::Vector3d cb = truth.topLeftCorner<3, 3>() * centre + truth.topRightCorner<3, 1>();
   return {(ca - cb).norm(), std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / M_PI};
 }

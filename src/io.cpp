@@ -7,8 +7,8 @@
 
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/geometry/TriangleMesh.h>
-#include <open3d/io/TriangleMeshIO.h>
 #include <open3d/io/PointCloudIO.h>
+#include <open3d/io/TriangleMeshIO.h>
 #include <open3d/utility/Logging.h>
 #include <algorithm>
 #include <atomic>

@@ -226,12 +226,8 @@ nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
   };
   const auto match = [&](const Match& m) -> nlohmann::json {
     if (m.view < 0) return nullptr;
-    return {{"name", m.object},
-            {"view", db.views[m.view].file},
-            {"score", m.score},
-            {"fitness", m.fitness},
-            {"coverage", m.coverage},
-            {"rmse", m.rmse},
+    return {{"name", m.object},     {"view", db.views[m.view].file}, {"score", m.score},
+            {"fitness", m.fitness}, {"coverage", m.coverage},        {"rmse", m.rmse},
             {"pose", rows(m.pose)}};
   };
   nlohmann::json j = {{"id", o.id},
@@ -266,9 +262,13 @@ std::string recognition_image_png(const Frame& frame, const std::vector<Recogniz
   } else {
     // Seen from the sensor with the default Kinect-like pinhole, image centred on the cloud.
     image = cv::Mat(480, 640, CV_8UC3, cv::Scalar(40, 40, 40));
+    double front = 0;
+    for (std::size_t i = 0; i < frame.size(); ++i)
+      if (frame.valid(i)) front += frame.xyz[i].z() > 0 ? 1 : -1;
+    pr.zsign = front >= 0 ? 1 : -1;
     Eigen::Vector2d lo(INFINITY, INFINITY), hi = -lo;
     for (std::size_t i = 0; i < frame.size(); ++i)
-      if (frame.valid(i) && frame.xyz[i].z() > 0) {
+      if (frame.valid(i) && pr.in_front(frame.xyz[i].cast<double>())) {
         const Eigen::Vector2d q(frame.xyz[i].x() / frame.xyz[i].z(),
                                 frame.xyz[i].y() / frame.xyz[i].z());
         lo = lo.cwiseMin(q);
@@ -282,19 +282,19 @@ std::string recognition_image_png(const Frame& frame, const std::vector<Recogniz
       pr.ok = true;
     }
     for (std::size_t i = 0; i < frame.size() && pr.ok; ++i) {
-      if (!frame.valid(i) || !(frame.xyz[i].z() > 0)) continue;
+      if (!frame.valid(i) || !pr.in_front(frame.xyz[i].cast<double>())) continue;
       const Eigen::Vector2d q = pr(frame.xyz[i].cast<double>());
       const Rgb& c = frame.rgb[i];
-      cv::circle(image, cv::Point(int(q.x()), int(q.y())), 1, cv::Scalar(c[2] / 2, c[1] / 2, c[0] / 2),
-                 cv::FILLED);
+      cv::circle(image, cv::Point(int(q.x()), int(q.y())), 1,
+                 cv::Scalar(c[2] / 2, c[1] / 2, c[0] / 2), cv::FILLED);
     }
   }
   const auto objects_in_db = db.objects();
   for (const RecognizedObject& o : objects) {
     const Recognition& r = o.recognition;
     if (!pr.ok || r.best.view < 0 || r.name == "unknown") continue;
-    const auto index = std::find(objects_in_db.begin(), objects_in_db.end(), r.name) -
-                       objects_in_db.begin();
+    const auto index =
+        std::find(objects_in_db.begin(), objects_in_db.end(), r.name) - objects_in_db.begin();
     const cv::Vec3b c = label_colour(static_cast<std::uint32_t>(index + 1));
     const Cloud& view = db.views[r.best.view].cloud;
     for (const auto& p : view.points) {

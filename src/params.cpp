@@ -212,11 +212,12 @@ RecognitionParams recognition_params_from_json(const json& j, RecognitionParams 
 }
 
 std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::string& path,
-                                                                   SegmentParams seg,
-                                                                   RecognitionParams rec) {
+                                                                  SegmentParams seg,
+                                                                  RecognitionParams rec) {
   const json j = read_json_file(path);
   try {
-    if (!j.is_object()) throw InputError("expected {\"segmentation\": {...}, \"recognition\": {...}}");
+    if (!j.is_object())
+      throw InputError("expected {\"segmentation\": {...}, \"recognition\": {...}}");
     for (const auto& [key, value] : j.items())
       if (key != "segmentation" && key != "recognition")
         throw InputError("config: unknown key " + key +
@@ -332,8 +333,8 @@ void validate(const RecognitionParams& p) {
           "in [0, 1)");
   require(r.normal_tolerance_deg > 0 && r.normal_tolerance_deg <= 180,
           "registration.normal_tolerance_deg", "in (0, 180] degrees");
-  require(r.ransac_candidates >= 1 && r.ransac_candidates <= 1000,
-          "registration.ransac_candidates", "1 .. 1000");
+  require(r.ransac_candidates >= 1 && r.ransac_candidates <= 1000, "registration.ransac_candidates",
+          "1 .. 1000");
   require(r.max_points >= 0, "registration.max_points", ">= 0 (0 = all)");
   require(r.icp_iterations >= 0 && r.icp_iterations <= 100000, "registration.icp_iterations",
           "0 .. 100000");

@@ -63,8 +63,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   // Algorithm 3: the best view names the candidate; ties go to the earlier view.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
-    return Match{db.views[v].object, v, a.pose, a.fitness, a.coverage, score_of(a, params.score),
-                 a.rmse};
+    return Match{db.views[v].object,        v,     a.pose, a.fitness, a.coverage,
+                 score_of(a, params.score), a.rmse};
   };
   for (int v = 0; v < n; ++v) {
     if (!done[v]) continue;

@@ -2,15 +2,15 @@
 #include <proxseg/frame.hpp>
 #include <proxseg/registration.hpp>
 
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Feature.h>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/pipelines/registration/Feature.h>
 #include <random>
 #include <unordered_map>
 
@@ -35,8 +35,8 @@ struct PointGrid {
 // vectorises.
 struct SearchIndex {
   PointGrid points;
-  std::vector<Eigen::MatrixXf> features;     // [0]: all radii; [1 + b]: radius block b
-  std::vector<Eigen::RowVectorXf> norms2;    // squared norms of their columns
+  std::vector<Eigen::MatrixXf> features;   // [0]: all radii; [1 + b]: radius block b
+  std::vector<Eigen::RowVectorXf> norms2;  // squared norms of their columns
 };
 
 namespace {
@@ -260,10 +260,9 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
         }
         return;
       }
-    top.insert(std::upper_bound(top.begin(), top.end(), h,
-                                [](const Hypothesis& x, const Hypothesis& y) {
-                                  return x.inliers > y.inliers;
-                                }),
+    top.insert(std::upper_bound(
+                   top.begin(), top.end(), h,
+                   [](const Hypothesis& x, const Hypothesis& y) { return x.inliers > y.inliers; }),
                h);
     if (top.size() > k) top.pop_back();
   };
@@ -295,11 +294,13 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
     const Eigen::Vector3d dc = cand.points[i1] - cand.points[i0];
     const Eigen::Vector3d dv = view.points[j1] - view.points[j0];
     const double lc = dc.norm(), lv = dv.norm();
-    if (!(lc > min_edge && lv > min_edge && std::min(lc, lv) >= p.edge_similarity * std::max(lc, lv)))
+    if (!(lc > min_edge && lv > min_edge &&
+          std::min(lc, lv) >= p.edge_similarity * std::max(lc, lv)))
       continue;
     const Eigen::Vector3d &nc0 = cand.normals[i0], &nc1 = cand.normals[i1];
     const Eigen::Vector3d &nv0 = view.normals[j0], &nv1 = view.normals[j1];
-    if (!angle_alike(nc0.dot(nc1), nv0.dot(nv1)) || !angle_alike(nc0.dot(dc) / lc, nv0.dot(dv) / lv) ||
+    if (!angle_alike(nc0.dot(nc1), nv0.dot(nv1)) ||
+        !angle_alike(nc0.dot(dc) / lc, nv0.dot(dv) / lv) ||
         !angle_alike(nc1.dot(dc) / lc, nv1.dot(dv) / lv))
       continue;
     if (std::abs(nc0.dot(dc) / lc) > 0.99) continue;  // normal along the edge: no frame
@@ -324,9 +325,8 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
     h.overlap = std::sqrt(fitness(cand, view, h.pose, p.ransac_distance) *
                           coverage(cand, view, h.pose, p.ransac_distance));
   }
-  std::stable_sort(top.begin(), top.end(), [](const Hypothesis& x, const Hypothesis& y) {
-    return x.overlap > y.overlap;
-  });
+  std::stable_sort(top.begin(), top.end(),
+                   [](const Hypothesis& x, const Hypothesis& y) { return x.overlap > y.overlap; });
   return top;
 }
 
@@ -354,10 +354,10 @@ Eigen::Matrix4d icp(const Cloud& cand, const Cloud& view, Eigen::Matrix4d pose,
     }
     if (src.size() < 6) break;
     ++iterations;
-    const Eigen::Matrix4d step = p.point_to_plane ? point_to_plane(src, dst, nrm) : kabsch(src, dst);
+    const Eigen::Matrix4d step =
+        p.point_to_plane ? point_to_plane(src, dst, nrm) : kabsch(src, dst);
     inv = step * inv;
-    const double angle =
-        Eigen::AngleAxisd(Eigen::Matrix3d(step.topLeftCorner<3, 3>())).angle();
+    const double angle = Eigen::AngleAxisd(Eigen::Matrix3d(step.topLeftCorner<3, 3>())).angle();
     if (angle < 1e-5 && step.topRightCorner<3, 1>().norm() < 1e-6) break;  // converged
   }
   return inv.inverse();
@@ -467,8 +467,8 @@ Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> 
   return c;
 }
 
-double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
-               double delta, double* rmse) {
+double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
+               double* rmse) {
   const Eigen::Matrix4d inv = pose.inverse();
   int n = 0;
   double sum = 0;
@@ -580,9 +580,10 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   for (int k = 0; k < starts; ++k) {
     int iterations = 0;
     const Eigen::Matrix4d pose = icp(candidate, view, top[k].pose, params, iterations);
-    const double score = starts == 1 ? 0
-                                     : std::sqrt(fitness(candidate, view, pose, params.score_distance) *
-                                                 coverage(candidate, view, pose, params.score_distance));
+    const double score = starts == 1
+                             ? 0
+                             : std::sqrt(fitness(candidate, view, pose, params.score_distance) *
+                                         coverage(candidate, view, pose, params.score_distance));
     if (score > best) {
       best = score;
       a.pose = pose;

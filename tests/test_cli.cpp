@@ -57,9 +57,9 @@ void expect_input_error(const CliRun& r, const std::string& name, const fs::path
 }  // namespace
 
 TEST(Cli, HelpOnEveryCommand) {
-  for (const char* cmd : {"--help", "segment --help", "synth --help", "eval-seg --help",
-                          "db --help", "db add --help", "db render --help", "db info --help",
-                          "recognize --help"}) {
+  for (const char* cmd :
+       {"--help", "segment --help", "synth --help", "eval-seg --help", "db --help", "db add --help",
+        "db render --help", "db info --help", "recognize --help"}) {
     const CliRun r = run(cmd);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
@@ -347,8 +347,8 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
   EXPECT_NE(r.out.find("milk"), std::string::npos) << r.out;
 
   // Bad input: a missing view file and a config with an unknown key.
-  fs::copy(db, kTmp / "milkdb_broken", fs::copy_options::recursive |
-                                           fs::copy_options::overwrite_existing);
+  fs::copy(db, kTmp / "milkdb_broken",
+           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
   fs::remove(kTmp / "milkdb_broken" / "views" / "milk-000.pcd");
   const fs::path bad = kTmp / "milk_bad";
   expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " +

@@ -95,9 +95,9 @@ TEST(Database, BrokenDatabasesAreClearErrors) {
   EXPECT_THROW(load_database(dir), InputError);
   // No index at all.
   EXPECT_THROW(load_database(fresh_dir("db_empty")), InputError);
-  EXPECT_THROW(add_view(db, "unknown", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(),
-                        "x"),
-               InputError);
+  EXPECT_THROW(
+      add_view(db, "unknown", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "x"),
+      InputError);
 }
 
 TEST(Render, ViewsOfAMeshAreInItsFrameAndSeenFromTheEye) {
@@ -127,15 +127,17 @@ TEST(Registration, RecoversAKnownPoseOfARenderedView) {
   p.views = 4;
   const auto views = render_views(mesh, p);
   DescriptorParams d;
-  const Cloud view = describe(points_of(views[1].points, [&] {
-                                std::vector<int> all(views[1].points.size());
-                                std::iota(all.begin(), all.end(), 0);
-                                return all;
-                              }()),
+  const Cloud view = describe(points_of(views[1].points,
+                                        [&] {
+                                          std::vector<int> all(views[1].points.size());
+                                          std::iota(all.begin(), all.end(), 0);
+                                          return all;
+                                        }()),
                               views[1].eye, d);
   // The candidate: the same surface seen from a camera 0.8 m away, in the camera frame.
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
-  truth.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  truth.linear() =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   truth.translation() = Eigen::Vector3d(0.05, -0.1, 0.8);
   std::vector<Eigen::Vector3d> seen;
   for (const auto& q : views[1].points.xyz) seen.push_back(truth * q.cast<double>());
@@ -268,7 +270,8 @@ TEST_F(Ycb, GroundTruthMasks) {
     const YcbFrame y = read_ycb_frame(kData + "/ycbv/frames", stem, classes_);
     ASSERT_EQ(y.objects.size(), 3u);
     for (const auto& o : y.objects) {
-      const Recognition r = recognize(describe_candidate(points_of(y.frame, o.points), db_), db_, {});
+      const Recognition r =
+          recognize(describe_candidate(points_of(y.frame, o.points), db_), db_, {});
       cases.push_back(judge(y, o, r));
     }
   }

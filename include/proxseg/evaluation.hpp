@@ -58,10 +58,10 @@ nlohmann::json scores_json(const SegmentationScores& s);
 // ---- Recognition on YCB-Video frames (../shared/data/ycbv) ----
 
 struct ObjectTruth {
-  std::string name;          // class name from classes.txt
-  int class_index = 0;       // 1-based, the value of its pixels in -label.png
-  Eigen::Matrix4d pose;      // camera <- model (meta.json "poses")
-  std::vector<int> points;   // its pixels (indices into frame) with a valid depth
+  std::string name;         // class name from classes.txt
+  int class_index = 0;      // 1-based, the value of its pixels in -label.png
+  Eigen::Matrix4d pose;     // camera <- model (meta.json "poses")
+  std::vector<int> points;  // its pixels (indices into frame) with a valid depth
 };
 struct YcbFrame {
   Frame frame;  // camera frame, organized

@@ -28,8 +28,8 @@ std::vector<std::string> write_candidates(const std::string& dir, const Frame& f
 // ---- Recognition outputs (proxseg recognize) ----
 
 struct RecognizedObject {
-  int id = 0;               // the candidate's instance id (0 for a cloud given with --object)
-  std::size_t points = 0;   // the candidate's points
+  int id = 0;              // the candidate's instance id (0 for a cloud given with --object)
+  std::size_t points = 0;  // the candidate's points
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Recognition recognition;
 };

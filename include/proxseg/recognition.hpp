@@ -29,8 +29,8 @@ struct RecognitionParams {
 };
 
 struct Match {
-  std::string object;  // empty when there is none
-  int view = -1;       // index into Database::views
+  std::string object;                                  // empty when there is none
+  int view = -1;                                       // index into Database::views
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
   double fitness = 0, coverage = 0, score = 0, rmse = 0;
 };

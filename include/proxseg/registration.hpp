@@ -28,19 +28,19 @@ enum class MultiRadius {
 
 struct RegistrationParams {
   MultiRadius multi_radius = MultiRadius::kConcatenate;
-  int ransac_iterations = 1000;   // hypotheses that pass the edge test (paper: 100 / 200)
-  double ransac_distance = 0.01;  // inlier distance of a correspondence under a hypothesis
-  double edge_similarity = 0.9;   // sample pre-rejection: edge-length ratio between the clouds
+  int ransac_iterations = 1000;      // hypotheses that pass the edge test (paper: 100 / 200)
+  double ransac_distance = 0.01;     // inlier distance of a correspondence under a hypothesis
+  double edge_similarity = 0.9;      // sample pre-rejection: edge-length ratio between the clouds
   double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
-  int ransac_candidates = 30;     // best distinct hypotheses re-judged by their true overlap
-  bool mutual_filter = false;     // keep only mutually nearest feature pairs
+  int ransac_candidates = 30;        // best distinct hypotheses re-judged by their true overlap
+  bool mutual_filter = false;        // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
   int max_points = 400;
-  int icp_iterations = 30;        // upper bound; stops earlier when converged (paper: 100-200)
-  int icp_starts = 3;             // ICP runs from the best this many RANSAC hypotheses
-  double icp_distance = 0.015;    // ICP correspondences farther than this are ignored
-  bool point_to_plane = false;    // the paper's ICP is point-to-point
+  int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
+  int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
+  double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
+  bool point_to_plane = false;     // the paper's ICP is point-to-point
   double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
   // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
   // that a box face is not explained by the flat top of a can of about the same size.
@@ -84,11 +84,11 @@ Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> 
 // The result of aligning one model view to one candidate.
 struct Alignment {
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
-  double fitness = 0;  // eq. 5: share of candidate points within delta_th of the aligned view
+  double fitness = 0;        // eq. 5: share of candidate points within delta_th of the aligned view
   double close_fitness = 0;  // the same within score_distance
-  double coverage = 0;  // share of the view's points visible from the candidate's viewpoint
-                        // that have a candidate point within score_distance (model-side term)
-  double rmse = 0;      // of the fitness inliers
+  double coverage = 0;       // share of the view's points visible from the candidate's viewpoint
+                             // that have a candidate point within score_distance (model-side term)
+  double rmse = 0;           // of the fitness inliers
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };
@@ -106,8 +106,8 @@ Alignment align(const Cloud& candidate, const Cloud& sample, const Cloud& view,
 Cloud subsample(const Cloud& cloud, int max_points);
 
 // Eq. 4-5 and the model-side term for a given pose (candidate <- model).
-double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
-               double delta, double* rmse = nullptr);
+double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
+               double* rmse = nullptr);
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                 double delta);
 
