@@ -4,13 +4,14 @@
 #   make test   install what is missing, build, run every test (ctest)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn
+#   make bench-rec  only the recognition benchmark: proxseg vs Open3D and PCL registration
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test bench bench-seg format clean
+.PHONY: all deps deps-bench configure build demo test bench bench-seg bench-rec format clean
 
 all: build
 
@@ -39,7 +40,7 @@ test: build
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg
+bench: bench-seg bench-rec
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench
@@ -49,8 +50,16 @@ bench-seg: deps-bench configure
 	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
 	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
 
+bench-rec: deps-bench configure
+	@cmake --build $(BUILD) -j $(JOBS) --target rec_bench
+	@mkdir -p $(BUILD)/bench-out
+	@$(BUILD)/bench/rec_bench --data $(DATA) --out $(BUILD)/bench-out/recognition.md \
+	  --csv $(BUILD)/bench-out/recognition.csv
+	@bash scripts/update-results.sh docs/results.md recognition $(BUILD)/bench-out/recognition.md
+	@echo "docs/results.md (recognition) regenerated; per-candidate CSV in $(BUILD)/bench-out/"
+
 format:
-	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp tests/*.cpp bench/*.cpp
+	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp bench/*.cpp
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)

@@ -592,10 +592,22 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   }
   a.icp_ms = ms_since(t0);
   t0 = Clock::now();
-  a.fitness = fitness(candidate_all, view, a.pose, params.fitness_distance, &a.rmse);
-  a.close_fitness = fitness(candidate_all, view, a.pose, params.score_distance);
-  a.coverage = coverage(candidate_all, view, a.pose, params.score_distance);
+  const Alignment scored = score_pose(candidate_all, view, a.pose, params);
+  a.fitness = scored.fitness;
+  a.close_fitness = scored.close_fitness;
+  a.coverage = scored.coverage;
+  a.rmse = scored.rmse;
   a.score_ms = ms_since(t0);
+  return a;
+}
+
+Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                     const RegistrationParams& params) {
+  Alignment a;
+  a.pose = pose;
+  a.fitness = fitness(candidate, view, pose, params.fitness_distance, &a.rmse);
+  a.close_fitness = fitness(candidate, view, pose, params.score_distance);
+  a.coverage = coverage(candidate, view, pose, params.score_distance);
   return a;
 }
 

@@ -41,7 +41,8 @@ struct Recognition {
   Match runner_up;                    // the best view of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots if skipped early)
   int views_aligned = 0;
-  double describe_ms = 0, align_ms = 0;  // align_ms: wall time over all views
+  double align_ms = 0;     // wall time over all views
+  double describe_ms = 0;  // left to the caller, which describes the candidate (the CLI does)
 };
 
 double score_of(const Alignment& a, Score score);

@@ -105,6 +105,11 @@ Alignment align(const Cloud& candidate, const Cloud& sample, const Cloud& view,
 // has no more; max_points <= 0: all).
 Cloud subsample(const Cloud& cloud, int max_points);
 
+// The scores of a given pose (candidate <- model): fitness (eq. 5), close_fitness, coverage and
+// rmse, as align() scores its own result (used to judge other registrations the same way).
+Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                     const RegistrationParams& params);
+
 // Eq. 4-5 and the model-side term for a given pose (candidate <- model).
 double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
                double* rmse = nullptr);

@@ -1,0 +1,200 @@
+// The recognition peers of bench/peers_rec.hpp: Open3D and PCL registration on proxseg's clouds.
+// GCC 12 reports a false -Warray-bounds inside Eigen::umeyama<float> (a 3-vector stored into a
+// 4x4 block with a 4-wide packet load), instantiated here by PCL's TransformationEstimationSVD.
+#pragma GCC diagnostic ignored "-Warray-bounds"
+
+#include "peers_rec.hpp"
+
+#include <omp.h>
+
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/CorrespondenceChecker.h>
+#include <open3d/pipelines/registration/Feature.h>
+#include <open3d/pipelines/registration/Registration.h>
+#include <open3d/pipelines/registration/TransformationEstimation.h>
+#include <open3d/utility/Logging.h>
+#include <open3d/utility/Random.h>
+#include <pcl/console/print.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/sample_consensus_prerejective.h>
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+
+namespace proxseg::peers {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+constexpr int kFpfhBins = 33;
+
+namespace o3reg = open3d::pipelines::registration;
+
+struct Open3dCloud {
+  open3d::geometry::PointCloud points;
+  o3reg::Feature features;
+};
+
+Open3dCloud to_open3d(const Cloud& c) {
+  Open3dCloud o;
+  o.points.points_ = c.points;
+  o.points.normals_ = c.normals;
+  o.features.data_ = c.features;  // same layout: one column per point
+  return o;
+}
+
+using PclCloud = pcl::PointCloud<pcl::PointNormal>;
+using PclFeatures = pcl::PointCloud<pcl::FPFHSignature33>;
+
+PclCloud::Ptr to_pcl_points(const Cloud& c) {
+  auto out = std::make_shared<PclCloud>();
+  out->resize(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    pcl::PointNormal& p = (*out)[i];
+    p.getVector3fMap() = c.points[i].cast<float>();
+    p.getNormalVector3fMap() = c.normals[i].cast<float>();
+    p.curvature = 0;
+  }
+  return out;
+}
+
+PclFeatures::Ptr to_pcl_features(const Cloud& c) {
+  auto out = std::make_shared<PclFeatures>();
+  out->resize(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (int b = 0; b < kFpfhBins; ++b)
+      (*out)[i].histogram[b] = static_cast<float>(c.features(b, static_cast<Eigen::Index>(i)));
+  return out;
+}
+
+}  // namespace
+
+// --- Open3D -------------------------------------------------------------------------------------
+
+struct Open3dPeer::Impl {
+  Open3dParams params;
+  int threads = 0;
+  std::vector<Open3dCloud> views;
+};
+
+Open3dPeer::Open3dPeer(const Database& db, const Open3dParams& params, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  // Open3D warns on stdout; the benchmark's stdout is its table.
+  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
+  impl_->params = params;
+  impl_->threads = threads > 0 ? threads : omp_get_max_threads();
+  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud));
+}
+
+Open3dPeer::~Open3dPeer() = default;
+
+std::vector<PeerAlignment> Open3dPeer::align(const Cloud& candidate, int seed) const {
+  const Open3dParams& p = impl_->params;
+  open3d::utility::random::Seed(seed);
+  const Open3dCloud target = to_open3d(candidate);
+  const o3reg::CorrespondenceCheckerBasedOnEdgeLength edge(p.edge_length_similarity);
+  const o3reg::CorrespondenceCheckerBasedOnDistance distance(p.checker_distance);
+  const std::vector<std::reference_wrapper<const o3reg::CorrespondenceChecker>> checkers = {
+      edge, distance};
+  const int n = static_cast<int>(impl_->views.size());
+  std::vector<PeerAlignment> out(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(impl_->threads)
+  for (int v = 0; v < n; ++v) {
+    const Open3dCloud& source = impl_->views[v];
+    auto t0 = Clock::now();
+    const o3reg::RegistrationResult coarse = o3reg::RegistrationRANSACBasedOnFeatureMatching(
+        source.points, target.points, source.features, target.features, false,
+        p.max_correspondence_distance, o3reg::TransformationEstimationPointToPoint(false), 3,
+        checkers, o3reg::RANSACConvergenceCriteria(p.ransac_iterations, p.ransac_confidence));
+    out[v].ransac_ms = ms_since(t0);
+    // Open3D returns the identity with fitness 0 when no hypothesis passed the checkers.
+    out[v].found = coarse.fitness_ > 0;
+    out[v].pose = coarse.transformation_;
+    if (!out[v].found) continue;
+    t0 = Clock::now();
+    const o3reg::RegistrationResult fine =
+        o3reg::RegistrationICP(source.points, target.points, p.icp_distance, coarse.transformation_,
+                               o3reg::TransformationEstimationPointToPoint(false),
+                               o3reg::ICPConvergenceCriteria(1e-6, 1e-6, p.icp_iterations));
+    out[v].icp_ms = ms_since(t0);
+    out[v].pose = fine.transformation_;
+  }
+  return out;
+}
+
+// --- PCL ----------------------------------------------------------------------------------------
+
+struct PclPeer::Impl {
+  PclParams params;
+  int threads = 0;
+  std::vector<PclCloud::Ptr> points;
+  std::vector<PclFeatures::Ptr> features;
+};
+
+PclPeer::PclPeer(const Database& db, const PclParams& params, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+  impl_->params = params;
+  impl_->threads = threads > 0 ? threads : omp_get_max_threads();
+  for (const ModelView& v : db.views) {
+    impl_->points.push_back(to_pcl_points(v.cloud));
+    impl_->features.push_back(to_pcl_features(v.cloud));
+  }
+}
+
+PclPeer::~PclPeer() = default;
+
+std::vector<PeerAlignment> PclPeer::align(const Cloud& candidate, int seed) const {
+  const PclParams& p = impl_->params;
+  std::srand(static_cast<unsigned>(seed));
+  const PclCloud::Ptr target = to_pcl_points(candidate);
+  const PclFeatures::Ptr target_features = to_pcl_features(candidate);
+  const int n = static_cast<int>(impl_->points.size());
+  std::vector<PeerAlignment> out(n);
+#pragma omp parallel num_threads(impl_->threads)
+  {
+    // One aligner per thread with the candidate as its fixed target: PCL builds the target's
+    // point and feature trees on the first align() and keeps them while the target is unchanged.
+    pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
+        ransac;
+    ransac.setInputTarget(target);
+    ransac.setTargetFeatures(target_features);
+    ransac.setMaximumIterations(p.ransac_iterations);
+    ransac.setNumberOfSamples(p.samples);
+    ransac.setCorrespondenceRandomness(p.correspondence_randomness);
+    ransac.setSimilarityThreshold(p.similarity_threshold);
+    ransac.setMaxCorrespondenceDistance(p.max_correspondence_distance);
+    ransac.setInlierFraction(p.inlier_fraction);
+    pcl::IterativeClosestPoint<pcl::PointNormal, pcl::PointNormal> icp;
+    icp.setInputTarget(target);
+    icp.setMaximumIterations(p.icp_iterations);
+    icp.setMaxCorrespondenceDistance(p.icp_distance);
+    PclCloud aligned;
+#pragma omp for schedule(dynamic, 1)
+    for (int v = 0; v < n; ++v) {
+      auto t0 = Clock::now();
+      ransac.setInputSource(impl_->points[v]);
+      ransac.setSourceFeatures(impl_->features[v]);
+      ransac.align(aligned);
+      out[v].ransac_ms = ms_since(t0);
+      // Without a hypothesis over the inlier fraction PCL reports the identity guess.
+      out[v].found = ransac.hasConverged();
+      if (!out[v].found) continue;
+      const Eigen::Matrix4f coarse = ransac.getFinalTransformation();
+      t0 = Clock::now();
+      icp.setInputSource(impl_->points[v]);
+      icp.align(aligned, coarse);
+      out[v].icp_ms = ms_since(t0);
+      // ICP reports no convergence when it ran out of correspondences: keep the coarse pose.
+      out[v].pose = (icp.hasConverged() ? icp.getFinalTransformation() : coarse).cast<double>();
+    }
+  }
+  return out;
+}
+
+}  // namespace proxseg::peers
