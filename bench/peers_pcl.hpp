@@ -60,12 +60,12 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame,
 // order of their smallest point index (1..n when no plane is found). Every valid point takes the
 // label of the nearest labelled downsampled point within cluster_tolerance, else 0.
 struct EuclideanParams {
-  float leaf_size = 0.01f;           // m, voxel grid
-  float plane_distance = 0.02f;      // m, RANSAC inlier threshold
+  float leaf_size = 0.01f;       // m, voxel grid
+  float plane_distance = 0.02f;  // m, RANSAC inlier threshold
   int plane_max_iterations = 100;
-  float cluster_tolerance = 0.02f;   // m
-  int min_cluster_size = 100;        // downsampled points
-  int max_cluster_size = 25000;      // downsampled points
+  float cluster_tolerance = 0.02f;  // m
+  int min_cluster_size = 100;       // downsampled points
+  int max_cluster_size = 25000;     // downsampled points
 };
 std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& params = {});
 

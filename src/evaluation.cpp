@@ -239,7 +239,8 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
   const std::string base = (std::filesystem::path(dir) / stem).string();
   const std::string meta_path = base + "-meta.json", label_path = base + "-label.png";
   YcbFrame y;
-  y.frame = read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(meta_path));
+  y.intrinsics = read_ycb_meta(meta_path);
+  y.frame = read_rgbd(base + "-color.png", base + "-depth.png", y.intrinsics);
   const cv::Mat label = cv::imread(label_path, cv::IMREAD_UNCHANGED);
   if (label.empty() || label.type() != CV_8UC1 || label.cols != y.frame.width ||
       label.rows != y.frame.height)

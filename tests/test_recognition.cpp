@@ -220,7 +220,7 @@ class Ycb : public ::testing::Test {
   // The handle (model x > 5 cm) is visible when some of its points, put in the camera by the
   // true pose, land on mug pixels at their own depth.
   static bool handle_visible(const YcbFrame& y, const ObjectTruth& o) {
-    const Intrinsics k = read_ycb_meta(kData + "/ycbv/frames/" + stem_ + "-meta.json");
+    const Intrinsics& k = y.intrinsics;
     int seen = 0;
     for (const auto& p : models_.at(o.name)) {
       if (p.x() < 0.05) continue;
@@ -252,22 +252,24 @@ class Ycb : public ::testing::Test {
   static std::vector<std::string> classes_;
   static std::map<std::string, std::vector<Eigen::Vector3d>> models_;
   static std::map<std::string, std::vector<Eigen::Matrix4d>> symmetries_;
+  // Frame k (1..10) of the YCB-Video sample.
+  static YcbFrame frame(int k) {
+    char stem[16];
+    std::snprintf(stem, sizeof stem, "%06d", k);
+    return read_ycb_frame(kData + "/ycbv/frames", stem, classes_);
+  }
+
   static Database db_;
-  static std::string stem_;
 };
 std::vector<std::string> Ycb::classes_;
 std::map<std::string, std::vector<Eigen::Vector3d>> Ycb::models_;
 std::map<std::string, std::vector<Eigen::Matrix4d>> Ycb::symmetries_;
 Database Ycb::db_;
-std::string Ycb::stem_;
 
 TEST_F(Ycb, GroundTruthMasks) {
   std::vector<YcbCase> cases;
   for (int k = 1; k <= 10; ++k) {
-    char stem[16];
-    std::snprintf(stem, sizeof stem, "%06d", k);
-    stem_ = stem;
-    const YcbFrame y = read_ycb_frame(kData + "/ycbv/frames", stem, classes_);
+    const YcbFrame y = frame(k);
     ASSERT_EQ(y.objects.size(), 3u);
     for (const auto& o : y.objects) {
       const Recognition r =
@@ -284,10 +286,7 @@ TEST_F(Ycb, GroundTruthMasks) {
 TEST_F(Ycb, ProxsegCandidates) {
   std::vector<YcbCase> cases;
   for (int k = 1; k <= 10; ++k) {
-    char stem[16];
-    std::snprintf(stem, sizeof stem, "%06d", k);
-    stem_ = stem;
-    const YcbFrame y = read_ycb_frame(kData + "/ycbv/frames", stem, classes_);
+    const YcbFrame y = frame(k);
     const SegmentResult seg = segment(y.frame, SegmentParams{});
     for (const auto& o : y.objects) {
       // The candidate that overlaps the object most (intersection over union of pixels).

@@ -3,6 +3,7 @@
 // The metrics themselves are in metrics.hpp; their definitions in docs/metrics.md.
 #pragma once
 #include <proxseg/frame.hpp>
+#include <proxseg/io.hpp>
 #include <proxseg/metrics.hpp>
 
 #include <Eigen/Core>
@@ -64,7 +65,8 @@ struct ObjectTruth {
   std::vector<int> points;  // its pixels (indices into frame) with a valid depth
 };
 struct YcbFrame {
-  Frame frame;  // camera frame, organized
+  Frame frame;            // camera frame, organized
+  Intrinsics intrinsics;  // from -meta.json
   std::vector<ObjectTruth> objects;
 };
 // Reads DIR/<stem>-color.png, -depth.png, -label.png and -meta.json; classes from classes.txt.

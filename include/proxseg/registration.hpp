@@ -71,9 +71,8 @@ std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& po
 Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
                const DescriptorParams& params);
 // Estimates normals (oriented towards viewpoint; away from the centroid when the viewpoint is not
-// finite, for full models), computes FPFH and builds the indexes. Points and features are
-// rounded to float first (the PCD stores floats); normals and features are cached as floats,
-// so a cloud restored from its PCD and cache equals this one to float precision.
+// finite, for full models), computes FPFH and builds the indexes. The database stores points,
+// normals and features as floats, so a cloud restored from it equals this one to float precision.
 // Throws InputError when there are fewer than 10 points.
 Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
                         const Eigen::Vector3d& viewpoint, const DescriptorParams& params);
