@@ -134,17 +134,35 @@ int run_recognize(const RecognizeOptions& o) {
               << frame.height << ")\n";
     const proxseg::SegmentResult result = proxseg::segment(frame, seg);
     segment_ms = ms_since(t);
-    std::vector<const proxseg::Candidate*> candidates;
-    for (const auto& c : result.selection.components)
-      if (!c.background) candidates.push_back(&c);
-    Progress progress(candidates.size());
+    std::size_t candidates = 0;
+    for (const auto& c : result.selection.components) candidates += !c.background;
+    Progress progress(candidates);
     t = Clock::now();
-    for (const proxseg::Candidate* c : candidates) {
-      std::vector<Eigen::Vector3d> points;
-      for (int i : c->points) points.push_back(frame.xyz[i].cast<double>());
-      objects.push_back(recognise(points, static_cast<int>(c->instance), db, rec));
-      progress.step("candidate " + std::to_string(c->instance) + ": " +
-                    objects.back().recognition.name);
+    // The bar counts the candidates; the trials of the split and merge passes are logged.
+    std::size_t steps = 0;
+    const auto scene = proxseg::recognize_scene(
+        frame, result.selection, db, rec, [&](const proxseg::SceneObject& s) {
+          std::string of;
+          for (auto i : s.instances) of += (of.empty() ? "" : "+") + std::to_string(i);
+          if (steps++ < candidates)
+            progress.step("candidate " + of + ": " + s.recognition.name);
+          else
+            std::cerr << "proxseg: "
+                      << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part" : "union")
+                      << " of candidate " << of << ": " << s.recognition.name << "\n";
+        });
+    for (const auto& s : scene) {
+      proxseg::RecognizedObject r;
+      r.id = static_cast<int>(objects.size()) + 1;
+      r.points = s.points.size();
+      for (int i : s.points) r.centroid += frame.xyz[i].cast<double>();
+      r.centroid /= std::max<double>(1.0, s.points.size());
+      r.instances = s.instances;
+      r.origin = s.origin == proxseg::SceneObject::Origin::kSplit    ? "split"
+                 : s.origin == proxseg::SceneObject::Origin::kMerged ? "merged"
+                                                                     : "candidate";
+      r.recognition = s.recognition;
+      objects.push_back(std::move(r));
     }
   }
   const double recognize_ms = ms_since(t);

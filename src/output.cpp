@@ -231,6 +231,8 @@ nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
             {"pose", rows(m.pose)}};
   };
   nlohmann::json j = {{"id", o.id},
+                      {"instances", o.instances},
+                      {"origin", o.origin},
                       {"points", o.points},
                       {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
                       {"name", r.name},

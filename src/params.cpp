@@ -88,6 +88,9 @@ void recognition_fields(P& p, F&& f) {
   f("", "score", p.score);
   f("", "min_score", p.min_score);
   f("", "early_exit", p.early_exit);
+  f("", "split_fitness", p.split_fitness);
+  f("", "merge_distance", p.merge_distance);
+  f("", "min_part_points", p.min_part_points);
   f("", "seed", p.seed);
   f("", "threads", p.threads);
 }
@@ -344,6 +347,12 @@ void validate(const RecognitionParams& p) {
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
   require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
+  require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");
+  require(p.merge_distance >= 0 && p.merge_distance <= 1, "merge_distance", "0 (off) .. 1 metre");
+  require(p.min_part_points >= 1, "min_part_points", ">= 1");
+  require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");
+  require(p.merge_distance >= 0 && p.merge_distance <= 1, "merge_distance", "0 (off) .. 1 metre");
+  require(p.min_part_points >= 1, "min_part_points", ">= 1");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }
 

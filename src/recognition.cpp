@@ -3,9 +3,13 @@
 
 #include <omp.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
+#include <map>
 
 namespace proxseg {
 namespace {
@@ -78,6 +82,163 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   }
   r.name = r.best.view >= 0 && r.best.score >= params.min_score ? r.best.object : "unknown";
   return r;
+}
+
+namespace {
+
+// An object of the scene with its described cloud (5 mm voxels, sensor frame) and their box.
+struct Piece {
+  SceneObject object;
+  Cloud cloud;
+  Eigen::AlignedBox3d box;
+};
+
+std::vector<Eigen::Vector3d> xyz_of(const Frame& frame, const std::vector<int>& points) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (int p : points) out.push_back(frame.xyz[p].cast<double>());
+  return out;
+}
+
+// Whether two pieces come within distance of each other (on their described clouds: only
+// points within distance of the other's box are compared).
+bool near(const Piece& a, const Piece& b, double distance) {
+  const Eigen::Vector3d d = Eigen::Vector3d::Constant(distance);
+  const Eigen::AlignedBox3d ga(a.box.min() - d, a.box.max() + d);
+  if (!ga.intersects(b.box)) return false;
+  const Eigen::AlignedBox3d gb(b.box.min() - d, b.box.max() + d);
+  std::vector<const Eigen::Vector3d*> pa, pb;
+  for (const auto& p : a.cloud.points)
+    if (gb.contains(p)) pa.push_back(&p);
+  for (const auto& p : b.cloud.points)
+    if (ga.contains(p)) pb.push_back(&p);
+  for (const auto* p : pa)
+    for (const auto* q : pb)
+      if ((*p - *q).squaredNorm() <= distance * distance) return true;
+  return false;
+}
+
+bool named(const Piece& p) {
+  return p.object.recognition.name != "unknown";
+}
+double score(const Piece& p) {
+  return p.object.recognition.best.score;
+}
+
+}  // namespace
+
+std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& selection,
+                                         const Database& db, const RecognitionParams& params,
+                                         const std::function<void(const SceneObject&)>& progress) {
+  // Pieces too small for a description (under 10 voxels) stay unrecognised and are not made.
+  auto recognise = [&](SceneObject o, Piece& out) {
+    const auto t = Clock::now();
+    try {
+      out.cloud = describe_candidate(xyz_of(frame, o.points), db);
+    } catch (const InputError&) {
+      return false;
+    }
+    const double describe_ms = ms_since(t);
+    o.recognition = recognize(out.cloud, db, params);
+    o.recognition.describe_ms = describe_ms;
+    out.object = std::move(o);
+    out.box.setEmpty();
+    for (const auto& p : out.cloud.points) out.box.extend(p);
+    if (progress) progress(out.object);
+    return true;
+  };
+
+  std::vector<Piece> pieces;
+  for (const Candidate& c : selection.components) {
+    if (c.background) continue;
+    Piece p;
+    if (recognise({c.points, {c.instance}, SceneObject::Origin::kCandidate, {}}, p))
+      pieces.push_back(std::move(p));
+  }
+
+  // Split: the model that names a candidate with a poor fitness keeps the points it explains;
+  // the rest is recognised on its own (and may be split again). Both parts must be named, so an
+  // object is not cut into itself and its fringe of noise.
+  const std::size_t min_part = static_cast<std::size_t>(params.min_part_points);
+  if (params.split_fitness > 0) {
+    std::deque<Piece> queue(std::make_move_iterator(pieces.begin()),
+                            std::make_move_iterator(pieces.end()));
+    pieces.clear();
+    while (!queue.empty()) {
+      Piece w = std::move(queue.front());
+      queue.pop_front();
+      const Recognition& r = w.object.recognition;
+      bool split = false;
+      if (named(w) && r.best.fitness < params.split_fitness &&
+          w.object.points.size() >= 2 * min_part) {
+        const std::vector<char> in =
+            explained(xyz_of(frame, w.object.points), db.views[r.best.view].cloud, r.best.pose,
+                      params.registration.fitness_distance);
+        SceneObject e{{}, w.object.instances, SceneObject::Origin::kSplit, {}}, rest = e;
+        for (std::size_t i = 0; i < in.size(); ++i)
+          (in[i] ? e : rest).points.push_back(w.object.points[i]);
+        Piece pe, pr;
+        if (e.points.size() >= min_part && rest.points.size() >= min_part &&
+            recognise(std::move(e), pe) && recognise(std::move(rest), pr) && named(pe) &&
+            named(pr)) {
+          pieces.push_back(std::move(pe));
+          queue.push_back(std::move(pr));
+          split = true;
+        }
+      }
+      if (!split) pieces.push_back(std::move(w));
+    }
+  }
+
+  // Merge: the best-scoring union of two near pieces that beats both parts, until none does.
+  // Unions are recognised once: a piece is known by its first point and its size (pieces are
+  // disjoint, and a merged piece is larger than both of its parts).
+  if (params.merge_distance > 0) {
+    using Key = std::array<std::size_t, 4>;
+    const auto key_of = [](const Piece& a, const Piece& b) {
+      Key k{std::size_t(a.object.points[0]), a.object.points.size(),
+            std::size_t(b.object.points[0]), b.object.points.size()};
+      if (k[2] < k[0]) std::swap(k[0], k[2]), std::swap(k[1], k[3]);
+      return k;
+    };
+    std::map<Key, Piece> tried;
+    for (;;) {
+      int best_i = -1, best_j = -1;
+      double best = -1;
+      for (std::size_t i = 0; i < pieces.size(); ++i)
+        for (std::size_t j = i + 1; j < pieces.size(); ++j) {
+          const Piece &a = pieces[i], &b = pieces[j];
+          if ((!named(a) && !named(b)) || !near(a, b, params.merge_distance)) continue;
+          const Key key = key_of(a, b);
+          auto it = tried.find(key);
+          if (it == tried.end()) {
+            SceneObject u{{}, a.object.instances, SceneObject::Origin::kMerged, {}};
+            std::merge(a.object.points.begin(), a.object.points.end(), b.object.points.begin(),
+                       b.object.points.end(), std::back_inserter(u.points));
+            u.instances.insert(u.instances.end(), b.object.instances.begin(),
+                               b.object.instances.end());
+            std::sort(u.instances.begin(), u.instances.end());
+            u.instances.erase(std::unique(u.instances.begin(), u.instances.end()),
+                              u.instances.end());
+            Piece p;
+            if (!recognise(std::move(u), p)) continue;
+            it = tried.emplace(key, std::move(p)).first;
+          }
+          const Piece& u = it->second;
+          if (named(u) && score(u) > std::max(score(a), score(b)) && score(u) > best)
+            best = score(u), best_i = static_cast<int>(i), best_j = static_cast<int>(j);
+        }
+      if (best_i < 0) break;
+      pieces[best_i] = std::move(tried.at(key_of(pieces[best_i], pieces[best_j])));
+      pieces.erase(pieces.begin() + best_j);
+    }
+  }
+
+  std::sort(pieces.begin(), pieces.end(),
+            [](const Piece& a, const Piece& b) { return a.object.points[0] < b.object.points[0]; });
+  std::vector<SceneObject> out;
+  for (auto& p : pieces) out.push_back(std::move(p.object));
+  return out;
 }
 
 }  // namespace proxseg

@@ -488,6 +488,18 @@ double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d&
   return candidate.size() ? double(n) / candidate.size() : 0;
 }
 
+std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cloud& view,
+                            const Eigen::Matrix4d& pose, double delta) {
+  const Eigen::Matrix4d inv = pose.inverse();
+  std::vector<char> out(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double d2 = 0;
+    out[i] =
+        nearest(view.index->points, apply(inv, points[i]), delta, d2) >= 0 && d2 <= delta * delta;
+  }
+  return out;
+}
+
 // The view's points that the candidate's sensor would see: a z-buffer over viewing directions
 // with cells about three point spacings wide at the object's range, keeping in each cell the
 // points within a few spacings of the nearest one.

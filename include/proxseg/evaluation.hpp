@@ -75,10 +75,11 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
 // Non-empty lines of a text file (classes.txt).
 std::vector<std::string> read_lines(const std::string& path);
 
-// The rotational symmetries of a model that are symmetries of its oriented bounding box (the 180
-// degree turns about its axes, and the 90 degree turns about an axis whose two other extents are
-// equal) and that map the model's points onto themselves within tolerance (mean distance), as
-// model-frame transforms about the box centre. The identity is always first.
+// The rotational symmetries of a model that are symmetries of its box (the 180 degree turns
+// about its axes, the 90 degree turns about an axis whose two other extents are equal, and their
+// products) and that map the model's points onto themselves within tolerance (mean distance), as
+// model-frame transforms about the box centre. The box is found from the model's face normals
+// (principal axes as a fallback). The identity is always first.
 std::vector<Eigen::Matrix4d> box_symmetries(const std::vector<Eigen::Vector3d>& model,
                                             double tolerance);
 struct PoseError {

@@ -28,9 +28,11 @@ std::vector<std::string> write_candidates(const std::string& dir, const Frame& f
 // ---- Recognition outputs (proxseg recognize) ----
 
 struct RecognizedObject {
-  int id = 0;              // the candidate's instance id (0 for a cloud given with --object)
-  std::size_t points = 0;  // the candidate's points
+  int id = 0;              // 1.. in the scene (0 for a cloud given with --object)
+  std::size_t points = 0;  // the object's points
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::vector<std::uint32_t> instances;  // the selection's candidates it holds points of
+  std::string origin = "candidate";      // candidate, split or merged (recognize_scene)
   Recognition recognition;
 };
 // One candidate's entry of PREFIX.json: name, fitness, coverage, score, pose (4x4 rows,

@@ -2,10 +2,14 @@
 // and name it after the view with the best score, or "unknown" under a threshold.
 #pragma once
 #include <proxseg/database.hpp>
+#include <proxseg/frame.hpp>
 #include <proxseg/registration.hpp>
+#include <proxseg/selection.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace proxseg {
@@ -24,6 +28,17 @@ struct RecognitionParams {
   // > 0: stop after the first batch of views (8 at a time, in database order) in which some
   // view reached this score. Faster; may change the answer (a later view could score higher).
   double early_exit = 0;
+  // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
+  // that names a candidate also tells which of its points belong to it.
+  // Split: a named candidate whose best fitness is under split_fitness is cut into the points
+  // its model explains and the rest, when both have min_part_points and the explained part is
+  // still named (two touching objects that the selection kept together). 0 = off.
+  double split_fitness = 0.8;
+  // Merge: two candidates whose points come within merge_distance (metres) and whose union is
+  // named with a better score than either part become one (an object cut in two by a missing
+  // rim or a shadow). 0 = off.
+  double merge_distance = 0.03;
+  int min_part_points = 500;  // points of the frame
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores; the answer does not depend on it
 };
@@ -51,5 +66,21 @@ double score_of(const Alignment& a, Score score);
 Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db);
 // Algorithm 3 for one described candidate.
 Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params);
+
+// One object of a scene as recognition leaves it: the frame points it holds, the selection
+// instances they came from, and its recognition.
+struct SceneObject {
+  std::vector<int> points;               // frame point indices, ascending
+  std::vector<std::uint32_t> instances;  // the candidates (instance ids) it holds points of
+  enum class Origin { kCandidate, kSplit, kMerged } origin = Origin::kCandidate;
+  Recognition recognition;
+};
+
+// Algorithm 3 over every candidate of a selection (background excluded), then the split and
+// merge passes of RecognitionParams. `progress` is called after each recognition with the
+// object just recognised. Objects come in order of their smallest point index.
+std::vector<SceneObject> recognize_scene(
+    const Frame& frame, const Selection& selection, const Database& db,
+    const RecognitionParams& params, const std::function<void(const SceneObject&)>& progress = {});
 
 }  // namespace proxseg

@@ -114,5 +114,9 @@ double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d&
                double* rmse = nullptr);
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                 double delta);
+// Per point (sensor frame): whether the view, put in place by pose (candidate <- model), has a
+// point within delta of it; the points that eq. 4 counts as explained.
+std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cloud& view,
+                            const Eigen::Matrix4d& pose, double delta);
 
 }  // namespace proxseg
