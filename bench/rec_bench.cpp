@@ -4,13 +4,14 @@
 // Usage: rec_bench [--data DIR] [--db-dir DIR] [--out recognition.md] [--csv candidates.csv]
 //                  [--tests N] [--seed S] [--threads T] [--views-per-object V]
 //                  [--o3d-iterations A,B] [--pcl-iterations I] [--peer-sample]
-//                  [--skip-open3d] [--skip-pcl]
+//                  [--skip-open3d] [--skip-pcl] [--config recognition.json]
 #include "bench_util.hpp"
 #include "peers_rec.hpp"
 
 #include <proxseg/database.hpp>
 #include <proxseg/evaluation.hpp>
 #include <proxseg/io.hpp>
+#include <proxseg/params.hpp>
 #include <proxseg/recognition.hpp>
 #include <proxseg/registration.hpp>
 #include <proxseg/render.hpp>
@@ -252,6 +253,10 @@ int main(int argc, char** argv) {
                "Peers match, RANSAC and ICP on proxseg's candidate sample (max_points) too");
   app.add_flag("--skip-pcl", skip_pcl, "Do not run the PCL peer");
   app.add_flag("--skip-open3d", skip_open3d, "Do not run the Open3D peer");
+  std::string config;
+  app.add_option("--config", config,
+                 "JSON recognition parameters for proxseg (the layout of the report's "
+                 "\"recognition\" parameters)");
   CLI11_PARSE(app, argc, argv);
   // Open3D has no thread setting of its own: its parallel loops take OpenMP's default team.
   if (threads > 0) omp_set_num_threads(threads);
@@ -307,6 +312,11 @@ int main(int argc, char** argv) {
   const Test warm = make(tests);
 
   proxseg::RecognitionParams rp;
+  if (!config.empty()) {
+    std::ifstream in(config);
+    if (!in) throw proxseg::InputError(config + ": cannot open the config");
+    rp = proxseg::recognition_params_from_json(nlohmann::json::parse(in), rp);
+  }
   rp.threads = threads;
   rp.seed = static_cast<std::uint64_t>(seed);
 
