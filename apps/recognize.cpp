@@ -42,6 +42,12 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("--ransac-iterations", o.ransac_iterations, "RANSAC hypotheses per view");
   cmd->add_option("--icp-iterations", o.icp_iterations, "ICP iterations per view (at most)");
   cmd->add_flag("--point-to-plane", o.point_to_plane, "Point-to-plane ICP (paper: point-to-point)");
+  cmd->add_option("--split-fitness", o.split_fitness,
+                  "Split a named candidate whose fitness is under this into what its model "
+                  "explains and the rest (0 = never)");
+  cmd->add_option("--merge-distance", o.merge_distance,
+                  "Merge two pieces within this distance (metres) when their union is named with a "
+                  "better score (0 = never)");
   cmd->add_option("--seed", o.seed, "Seed of the RANSAC samples");
   add_scene_options(cmd, o);
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
@@ -64,6 +70,8 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   if (o.ransac_iterations) p.registration.ransac_iterations = *o.ransac_iterations;
   if (o.icp_iterations) p.registration.icp_iterations = *o.icp_iterations;
   if (o.point_to_plane) p.registration.point_to_plane = true;
+  if (o.split_fitness) p.split_fitness = *o.split_fitness;
+  if (o.merge_distance) p.merge_distance = *o.merge_distance;
   if (o.seed) p.seed = *o.seed;
   if (o.threads) p.threads = *o.threads;
   proxseg::validate(p);

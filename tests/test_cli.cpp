@@ -335,6 +335,16 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
       EXPECT_TRUE(c.contains("runner_up"));
     }
   EXPECT_EQ(milk, 1);
+  // Every object says where it came from: a candidate of the selection, or a split or a merge
+  // of candidates by recognition.
+  for (const auto& c : report["candidates"]) {
+    EXPECT_TRUE(c["origin"] == "candidate" || c["origin"] == "split" || c["origin"] == "merged");
+    ASSERT_GE(c["instances"].size(), 1u);
+    if (c["origin"] == "merged") {
+      EXPECT_GE(c["instances"].size(), 2u);
+    }
+  }
+  EXPECT_EQ(report["parameters"]["recognition"]["merge_distance"], 0.03);
   EXPECT_TRUE(report["parameters"].contains("recognition"));
   EXPECT_TRUE(report["parameters"].contains("segmentation"));
   const cv::Mat png = cv::imread(o.string() + ".png");
