@@ -275,6 +275,27 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
   return y;
 }
 
+Occlusion occlude(const std::vector<Eigen::Vector3d>& view, double max_radius, std::uint64_t seed) {
+  if (view.empty()) throw InputError("occlude: the view has no points");
+  if (!(max_radius >= 0) || !std::isfinite(max_radius))
+    throw InputError("occlude: expected a finite max_radius >= 0");
+  // splitmix64 draws: the same numbers with every standard library (std:: distributions are not).
+  std::uint64_t state = seed;
+  const auto uniform = [&state]() {
+    std::uint64_t x = (state += 0x9e3779b97f4a7c15ull);
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((x ^ (x >> 31)) >> 11) * 0x1.0p-53;  // [0, 1)
+  };
+  Occlusion o;
+  o.centre = view[std::min(view.size() - 1, static_cast<std::size_t>(uniform() * view.size()))];
+  o.radius = uniform() * max_radius;
+  for (const auto& p : view)
+    if ((p - o.centre).norm() > o.radius) o.points.push_back(p);
+  o.removed_share = 1.0 - double(o.points.size()) / view.size();
+  return o;
+}
+
 namespace {
 
 // The frame of a box from its faces: the most common normal direction (sign ignored), then the

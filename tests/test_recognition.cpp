@@ -138,6 +138,40 @@ TEST(Render, ViewsOfAMeshAreInItsFrameAndSeenFromTheEye) {
   }
 }
 
+// The paper's occlusion generator on a rendered LINEMOD view: a ball around a point of the view
+// is removed, reproducibly, and random radii up to the object's size reach every bin of Table 3.
+TEST(Evaluation, OcclusionGeneratorRemovesABallAroundAPointOfTheView) {
+  const Mesh mesh = read_mesh(kData + "/lmo/models/obj_000005.ply", 0.001);  // can
+  ViewSphereParams vp;
+  vp.views = 1;
+  const auto rendered = render_views(mesh, vp);
+  std::vector<Eigen::Vector3d> view;
+  for (const auto& q : rendered.at(0).points.xyz) view.push_back(q.cast<double>());
+  ASSERT_GT(view.size(), 1000u);
+  std::vector<int> bins(10, 0);
+  for (std::uint64_t seed = 1; seed <= 300; ++seed) {
+    const Occlusion o = occlude(view, 0.1, seed);
+    ASSERT_GE(o.radius, 0);
+    ASSERT_LE(o.radius, 0.1);
+    // Exactly the points within the radius are gone.
+    std::size_t inside = 0;
+    for (const auto& p : view) inside += (p - o.centre).norm() <= o.radius;
+    EXPECT_EQ(o.points.size(), view.size() - inside);
+    for (const auto& p : o.points) ASSERT_GT((p - o.centre).norm(), o.radius);
+    EXPECT_NEAR(o.removed_share, double(inside) / view.size(), 1e-12);
+    ++bins[std::min(9, static_cast<int>(o.removed_share * 10))];
+    if (seed <= 3) {
+      const Occlusion again = occlude(view, 0.1, seed);
+      EXPECT_EQ(again.points, o.points);
+      EXPECT_EQ(again.centre, o.centre);
+    }
+  }
+  for (int b = 1; b < 7; ++b)
+    EXPECT_GT(bins[b], 0) << "no occlusion of " << b * 10 << "-" << b * 10 + 10 << " %";
+  EXPECT_THROW(occlude({}, 0.1, 1), InputError);
+  EXPECT_THROW(occlude(view, -1, 1), InputError);
+}
+
 TEST(Registration, RecoversAKnownPoseOfARenderedView) {
   const Mesh mesh = read_mesh(kData + "/lmo/models/obj_000008.ply", 0.001);  // driller
   ViewSphereParams p;

@@ -7,6 +7,7 @@
 #include <proxseg/metrics.hpp>
 
 #include <Eigen/Core>
+#include <cstdint>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -74,6 +75,17 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
                         const std::vector<std::string>& classes);
 // Non-empty lines of a text file (classes.txt).
 std::vector<std::string> read_lines(const std::string& path);
+
+// The paper's occlusion generator [4]: a random point of the view and a random radius (uniform
+// in [0, max_radius]); every point within the radius of that point is removed. The share of
+// removed points is what the paper's Table 3 bins by. Same view and seed, same occlusion.
+struct Occlusion {
+  std::vector<Eigen::Vector3d> points;  // what is left, in the view's order
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0;
+  double removed_share = 0;  // removed / view points
+};
+Occlusion occlude(const std::vector<Eigen::Vector3d>& view, double max_radius, std::uint64_t seed);
 
 // The rotational symmetries of a model that are symmetries of its box (the 180 degree turns
 // about its axes, the 90 degree turns about an axis whose two other extents are equal, and their
