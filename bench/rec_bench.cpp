@@ -4,7 +4,7 @@
 // Usage: rec_bench [--data DIR] [--db-dir DIR] [--out recognition.md] [--csv candidates.csv]
 //                  [--tests N] [--seed S] [--threads T] [--views-per-object V]
 //                  [--o3d-iterations A,B] [--pcl-iterations I] [--peer-sample]
-//                  [--skip-open3d] [--skip-pcl] [--config recognition.json]
+//                  [--skip-open3d] [--skip-pcl] [--config params.json]
 #include "bench_util.hpp"
 #include "peers_rec.hpp"
 
@@ -255,8 +255,7 @@ int main(int argc, char** argv) {
   app.add_flag("--skip-open3d", skip_open3d, "Do not run the Open3D peer");
   std::string config;
   app.add_option("--config", config,
-                 "JSON recognition parameters for proxseg (the layout of the report's "
-                 "\"recognition\" parameters)");
+                 "JSON {\"recognition\": {...}} for proxseg (as proxseg recognize --config)");
   CLI11_PARSE(app, argc, argv);
   // Open3D has no thread setting of its own: its parallel loops take OpenMP's default team.
   if (threads > 0) omp_set_num_threads(threads);
@@ -313,9 +312,12 @@ int main(int argc, char** argv) {
 
   proxseg::RecognitionParams rp;
   if (!config.empty()) {
-    std::ifstream in(config);
-    if (!in) throw proxseg::InputError(config + ": cannot open the config");
-    rp = proxseg::recognition_params_from_json(nlohmann::json::parse(in), rp);
+    try {
+      rp = proxseg::read_recognize_params(config, {}, rp).second;
+    } catch (const std::exception& e) {
+      std::cerr << "rec_bench: " << e.what() << "\n";
+      return 1;
+    }
   }
   rp.threads = threads;
   rp.seed = static_cast<std::uint64_t>(seed);

@@ -31,8 +31,8 @@ struct RecognitionParams {
   // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
   // that names a candidate also tells which of its points belong to it.
   // Split: a named candidate whose best fitness is under split_fitness is cut into the points
-  // its model explains and the rest, when both have min_part_points and the explained part is
-  // still named (two touching objects that the selection kept together). 0 = off.
+  // its model explains and the rest, when both have min_part_points and both are named on their
+  // own (two touching objects that the selection kept together). 0 = off.
   double split_fitness = 0.8;
   // Merge: two candidates whose points come within merge_distance (metres) and whose union is
   // named with a better score than either part become one (an object cut in two by a missing
