@@ -121,7 +121,8 @@ void Progress::step(const std::string& what) {
     std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
               << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
     if (done_ == total_) std::cerr << "\n";
-  } else {
+  } else if (total_ <= 200 || done_ % ((total_ + 199) / 200) == 0 || done_ == total_) {
+    // At most about 200 lines in a log, whatever the batch size.
     std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
   }
 }
@@ -361,6 +362,8 @@ int main(int argc, char** argv) {
   add_recognize(app, recognize);
   EvalOptions eval;
   add_eval(app, eval);
+  BenchRecOptions bench_rec;
+  add_bench_rec(app, bench_rec);
   SynthOptions synth;
   auto* synth_cmd = app.add_subcommand(
       "synth", "Write the built-in synthetic tabletop scene (with ground truth)");
@@ -374,6 +377,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("eval-seg")) return run_eval(eval);
     if (app.got_subcommand("db")) return run_db(db);
     if (app.got_subcommand("recognize")) return run_recognize(recognize);
+    if (app.got_subcommand("bench-rec")) return run_bench_rec(bench_rec);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (code 0) or the usage error
     return code == 0 ? 0 : 2;

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Installs proxseg's build dependencies from Debian 12's packages, only those that are missing.
 # Works as root without a TTY (CI); uses sudo when run as a normal user.
-# Usage: scripts/install-deps.sh [--bench]   (--bench adds PCL, used only by the benchmarks)
+# Usage: scripts/install-deps.sh [--bench]   (--bench adds PCL, the benchmarks' peers, and
+# gnuplot, which draws the recognition benchmark's ROC and precision-recall curves)
 set -euo pipefail
 
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
 if [ "${1:-}" = "--bench" ]; then
-  packages+=(libpcl-dev)
+  packages+=(libpcl-dev gnuplot-nox)
 fi
 
 missing=()

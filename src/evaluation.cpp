@@ -1,7 +1,9 @@
 // Evaluation of segmentations on labelled scenes: schemes, categories, summaries.
 #include <proxseg/evaluation.hpp>
+
 #include <proxseg/io.hpp>
 #include <proxseg/selection.hpp>
+#include "splitmix.hpp"
 
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
@@ -279,14 +281,8 @@ Occlusion occlude(const std::vector<Eigen::Vector3d>& view, double max_radius, s
   if (view.empty()) throw InputError("occlude: the view has no points");
   if (!(max_radius >= 0) || !std::isfinite(max_radius))
     throw InputError("occlude: expected a finite max_radius >= 0");
-  // splitmix64 draws: the same numbers with every standard library (std:: distributions are not).
-  std::uint64_t state = seed;
-  const auto uniform = [&state]() {
-    std::uint64_t x = (state += 0x9e3779b97f4a7c15ull);
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return static_cast<double>((x ^ (x >> 31)) >> 11) * 0x1.0p-53;  // [0, 1)
-  };
+  SplitMix rng{seed};
+  const auto uniform = [&rng]() { return rng.uniform(); };
   Occlusion o;
   o.centre = view[std::min(view.size() - 1, static_cast<std::size_t>(uniform() * view.size()))];
   o.radius = uniform() * max_radius;

@@ -174,9 +174,14 @@ Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
       const std::size_t idx = static_cast<std::size_t>(v) * W + u;
       double depth = zbuf[idx];
       if (!std::isfinite(depth)) continue;
-      if (params.depth_noise > 0) {  // Kinect-like: std grows with z^2, 1 mm quantisation
+      if (params.depth_noise > 0) {  // Kinect-like: std grows with z^2
         depth += params.depth_noise * depth * depth * gauss(rng);
-        depth = std::max(kNear, std::round(depth * 1000.0) / 1000.0);
+        if (params.disparity_step <= 0)
+          depth = std::max(kNear, std::round(depth * 1000.0) / 1000.0);
+      }
+      if (params.disparity_step > 0) {  // the sensor's disparity steps
+        const double steps = std::max(1.0, std::round(1.0 / (depth * params.disparity_step)));
+        depth = std::max(kNear, 1.0 / (steps * params.disparity_step));
       }
       const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
       f.xyz[idx] = (ray * depth).cast<float>();

@@ -26,6 +26,11 @@ struct RenderParams {
   Camera camera;
   Eigen::Isometry3d camera_from_world = Eigen::Isometry3d::Identity();
   double depth_noise = 0.0;  // std of the Kinect-like noise at 1 m (grows with z^2), metres
+  // Kinect-like quantisation: the sensor measures disparity, so 1/depth is rounded to steps of
+  // disparity_step (1/m) and the depth steps grow with z^2 (Kinect v1: about 0.00285, i.e.
+  // 2.85 mm at 1 m and 6.4 mm at 1.5 m; Khoshelham and Elberink 2012). 0 = depth rounded to
+  // 1 mm when there is noise, exact otherwise.
+  double disparity_step = 0.0;
   std::uint32_t seed = 1;
 };
 
