@@ -127,10 +127,16 @@ std::function<Answer(const TestView&)> proxseg_recogniser(const proxseg::Databas
     Answer a;
     try {
       const proxseg::Cloud c = proxseg::describe_candidate(t.points, db);
+      a.describe_ms = ms_since(t0);
       const proxseg::Recognition r = proxseg::recognize(c, db, rp);
       a.best = r.best.object;
       a.score = r.best.score;
       a.pose = r.best.pose;
+      for (const proxseg::Alignment& x : r.alignments) {
+        a.ransac_ms += x.ransac_ms;
+        a.icp_ms += x.icp_ms;
+        a.score_ms += x.score_ms;
+      }
     } catch (const InputError&) {
       // Too few points left to describe (a heavy occlusion of a far view): no answer.
     }
@@ -158,15 +164,24 @@ std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
       a.ms = ms_since(t0);
       return a;
     }
+    a.describe_ms = ms_since(t0);
     const std::vector<proxseg::peers::PeerAlignment> aligned =
         peer.align(c, static_cast<int>(rp.seed));
     const int n = static_cast<int>(aligned.size());
-    std::vector<double> score(n, 0);
+    std::vector<double> score(n, 0), score_ms(n, 0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int v = 0; v < n; ++v)
-      if (aligned[v].found)  // no hypothesis, no pose to score: 0
-        score[v] = proxseg::score_of(
-            proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration), rp.score);
+    for (int v = 0; v < n; ++v) {
+      if (!aligned[v].found) continue;  // no hypothesis, no pose to score: 0
+      const auto ts = Clock::now();
+      score[v] = proxseg::score_of(
+          proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration), rp.score);
+      score_ms[v] = ms_since(ts);
+    }
+    for (int v = 0; v < n; ++v) {
+      a.ransac_ms += aligned[v].ransac_ms;
+      a.icp_ms += aligned[v].icp_ms;
+      a.score_ms += score_ms[v];
+    }
     const int best = static_cast<int>(std::max_element(score.begin(), score.end()) - score.begin());
     if (n > 0 && aligned[best].found) {
       a.best = db.views[best].object;
@@ -491,6 +506,13 @@ int run_bench_rec(const BenchRecOptions& o) {
                         {"icp_iterations", r.icp},
                         {"paper_analogue", r.paper}};
     j["sets"]["clean"] = rates_json(proxseg::rates(c, r.clean, objects, m));
+    double stage[4] = {0, 0, 0, 0};
+    for (const Answer& a : r.clean) {
+      stage[0] += a.describe_ms / r.clean.size(), stage[1] += a.ransac_ms / r.clean.size();
+      stage[2] += a.icp_ms / r.clean.size(), stage[3] += a.score_ms / r.clean.size();
+    }
+    j["sets"]["clean"]["stage_ms"] = {
+        {"describe", stage[0]}, {"ransac", stage[1]}, {"icp", stage[2]}, {"score", stage[3]}};
     if (!oc.empty()) {
       j["sets"]["occluded"] = rates_json(proxseg::rates(oc, r.occluded, objects, m));
       for (std::size_t b = 0; b < bins.size(); ++b)
@@ -647,6 +669,30 @@ int run_bench_rec(const BenchRecOptions& o) {
       md << "| " << r.label << " | " << pct(a.tp_rate()) << " | " << pct(a.fp_rate()) << " | "
          << pct(a.pose_rate()) << " | " << fmt(a.mean_ms, 0) << " | " << pct(b.tp_rate()) << " | "
          << pct(b.fp_rate()) << " | " << pct(b.pose_rate()) << " | " << fmt(b.mean_ms, 0) << " |\n";
+    }
+    md << "\n";
+  }
+
+  // Per-stage times on the views every non-sweep row ran (the first of the clean set).
+  {
+    std::size_t n = main_row.clean.size();
+    for (const Row& r : rows)
+      if (r.kind != "sweep") n = std::min(n, r.clean.size());
+    md << "### Stage times (ms per test view, mean over the first " << n << " clean test views)\n\n"
+       << "Describe: voxel filter, normals and FPFH of the test view (wall). RANSAC (with the "
+          "feature correspondences), ICP and scoring: summed over the "
+       << db.views.size() << " database views, which run on " << team
+       << " threads, so the sums exceed the wall time.\n\n"
+       << "| method | describe | RANSAC | ICP | scoring | wall |\n|---|---|---|---|---|---|\n";
+    for (const Row& r : rows) {
+      if (r.kind == "sweep" || n == 0) continue;
+      double d = 0, ra = 0, ic = 0, sc = 0, wall = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Answer& a = r.clean[i];
+        d += a.describe_ms, ra += a.ransac_ms, ic += a.icp_ms, sc += a.score_ms, wall += a.ms;
+      }
+      md << "| " << r.label << " | " << fmt(d / n) << " | " << fmt(ra / n, 0) << " | "
+         << fmt(ic / n, 0) << " | " << fmt(sc / n, 0) << " | " << fmt(wall / n, 0) << " |\n";
     }
     md << "\n";
   }

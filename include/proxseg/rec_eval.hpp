@@ -87,6 +87,9 @@ struct Answer {
   double score = 0;
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // camera <- model
   double ms = 0;                                       // describe + recognition, wall
+  // Stage times: describe (wall), and RANSAC (with correspondences), ICP and scoring summed
+  // over the database views (views run in parallel, so the sums exceed the wall time).
+  double describe_ms = 0, ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };
 
 // The paper's measures over a set of tests at one minimum score: a test is a true positive when
