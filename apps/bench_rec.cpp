@@ -269,10 +269,17 @@ constexpr PaperTest kPaperTable2[] = {{"test01", 61, "3, 5, 10, 20, 30, 50", 200
 constexpr int kPaperTable3Tp[] = {76, 70, 60, 47, 37, 23};
 
 // A gnuplot script that draws curves (inline data blocks) into a PNG.
+// Each curve has its own colour (the method's or the bin's, from a palette of 12); the occluded
+// curves of the ROC are dashed in their method's colour.
 struct Curve {
   std::string title;
   std::vector<std::pair<double, double>> xy;
+  int colour = 0;
+  bool dashed = false;
 };
+constexpr const char* kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
+                                    "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+                                    "#bcbd22", "#17becf", "#000000", "#aec7e8"};
 std::string gnuplot_script(const std::string& png, const std::string& title,
                            const std::string& xlabel, const std::string& ylabel,
                            const std::vector<Curve>& curves, const std::string& key,
@@ -290,8 +297,9 @@ std::string gnuplot_script(const std::string& png, const std::string& title,
     << "'\nset xrange [0:" << xmax << "]\nset yrange [0:1.02]\nset grid\nset key " << key
     << "\nplot ";
   for (std::size_t i = 0; i < curves.size(); ++i)
-    s << (i ? ", \\\n     " : "") << "$c" << i << " with lines linewidth 2 title '"
-      << curves[i].title << "'";
+    s << (i ? ", \\\n     " : "") << "$c" << i << " with lines linewidth 2 linecolor rgb '"
+      << kPalette[curves[i].colour % 12] << "' dashtype " << (curves[i].dashed ? 2 : 1)
+      << " title '" << curves[i].title << "'";
   s << "\nset output\n";
   return s.str();
 }
@@ -402,7 +410,7 @@ int run_bench_rec(const BenchRecOptions& o) {
   }
 #ifdef PROXSEG_WITH_PEERS
   proxseg::peers::Open3dParams o3d;
-  o3d.ransac_iterations = 100000;  // its 4M default costs 2.5x more for no gain (docs/results.md)
+  o3d.ransac_iterations = 100000;  // its 4M default: 2.5x the time, no gain (docs/method.md)
   std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
   std::unique_ptr<proxseg::peers::PclPeer> pcl;
   const proxseg::peers::PclParams pcl_params;
@@ -549,11 +557,13 @@ int run_bench_rec(const BenchRecOptions& o) {
                    << fmt(p.precision, 4) << "\n";
       return points;
     };
-    Curve roc{r.label + " (" + std::to_string(c.size()) + " tests)", {}};
+    const int colour = static_cast<int>(&r - rows.data());
+    Curve roc{r.label + " (" + std::to_string(c.size()) + " tests)", {}, colour};
     for (const auto& p : curve("clean", c, r.clean, {})) roc.xy.emplace_back(p.fp_rate, p.tp_rate);
     roc_curves.push_back(roc);
     if (!oc.empty()) {  // Fig. 3b's occluded tests, all bins together
-      Curve roc_occluded{r.label + ", occluded (" + std::to_string(oc.size()) + " tests)", {}};
+      Curve roc_occluded{
+          r.label + ", occluded (" + std::to_string(oc.size()) + " tests)", {}, colour, true};
       for (const auto& p : curve("occluded", oc, r.occluded, {}))
         roc_occluded.xy.emplace_back(p.fp_rate, p.tp_rate);
       roc_curves.push_back(roc_occluded);
@@ -561,7 +571,7 @@ int run_bench_rec(const BenchRecOptions& o) {
     for (std::size_t b = 0; b < bins.size() && !oc.empty(); ++b) {
       const auto points = curve(bin_name(bins[b]), oc, r.occluded, in_bin(static_cast<int>(b)));
       if (r.kind != "proxseg") continue;
-      Curve pr{"occlusion " + bin_name(bins[b]) + " %", {}};
+      Curve pr{"occlusion " + bin_name(bins[b]) + " %", {}, static_cast<int>(b) + 1};
       for (const auto& p : points) pr.xy.emplace_back(p.tp_rate, p.precision);
       pr_curves.push_back(pr);
     }
