@@ -72,7 +72,7 @@ void add_bench_rec(CLI::App& app, BenchRecOptions& o) {
   cmd->add_option("--seed", o.seed, "Seed of the test set, the occlusions and every RANSAC")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads,
-                  "Threads (0 = all cores); the answers do not depend on it")
+                  "Threads (0 = all cores); proxseg's answers do not depend on it (the peers' may)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
   cmd->add_option(
@@ -108,10 +108,36 @@ std::string bin_name(const proxseg::OcclusionBin& b) {
   return fmt(100 * b.lo, 0) + "-" + fmt(100 * b.hi, 0);
 }
 
+// The paper's figures [4, Tables 2 and 3] printed beside ours.
+struct PaperTest {
+  const char* name;
+  int views;
+  const char* radii;
+  int ransac, icp, tp, fp;
+};
+constexpr PaperTest kPaperTable2[] = {{"test01", 61, "3, 5, 10, 20, 30, 50", 200, 200, 80, 20},
+                                      {"test02", 32, "3, 5, 10, 20, 30, 50", 200, 200, 70, 30},
+                                      {"test03", 61, "3, 10, 30", 200, 200, 83, 17},
+                                      {"test04", 24, "3, 5, 10, 20, 30, 50", 200, 200, 60, 40},
+                                      {"test05", 61, "5, 15", 200, 200, 81, 19},
+                                      {"test06", 61, "3, 10, 30", 100, 150, 81, 19},
+                                      {"test07", 32, "5, 15", 200, 200, 73, 27},
+                                      {"test08", 32, "3, 10, 30", 100, 150, 70, 30},
+                                      {"test09", 32, "5, 15", 100, 150, 69, 31}};
+constexpr int kPaperTable3Tp[] = {76, 70, 60, 47, 37, 23};
+// "test02 (32 views, 3, 5, 10, 20, 30, 50 mm, 200 / 200 it.): 70 / 30"
+std::string paper_row(int i) {
+  if (i < 0) return "";
+  const PaperTest& p = kPaperTable2[i];
+  return std::string(p.name) + " (" + std::to_string(p.views) + " views, " + p.radii + " mm, " +
+         std::to_string(p.ransac) + " / " + std::to_string(p.icp) +
+         " it.): " + std::to_string(p.tp) + " / " + std::to_string(p.fp);
+}
+
 // One row of the tables: a recogniser and the prefixes of the two test sets it runs.
 struct Row {
   std::string label, kind;  // kind: proxseg (defaults), sweep, peer
-  std::string paper;        // the paper's analogue in Table 2
+  int paper = -1;           // the paper's analogue: index into kPaperTable2, -1 = none
   int views = 0, ransac = 0, icp = 0;
   std::vector<double> radii;
   std::function<Answer(const TestView&)> run;
@@ -250,24 +276,6 @@ nlohmann::json rates_json(const proxseg::Rates& r) {
       {"pose_rate", r.pose_rate()}, {"mean_ms", r.mean_ms}};
 }
 
-// The paper's figures [4, Tables 2 and 3] printed beside ours.
-struct PaperTest {
-  const char* name;
-  int views;
-  const char* radii;
-  int ransac, icp, tp, fp;
-};
-constexpr PaperTest kPaperTable2[] = {{"test01", 61, "3, 5, 10, 20, 30, 50", 200, 200, 80, 20},
-                                      {"test02", 32, "3, 5, 10, 20, 30, 50", 200, 200, 70, 30},
-                                      {"test03", 61, "3, 10, 30", 200, 200, 83, 17},
-                                      {"test04", 24, "3, 5, 10, 20, 30, 50", 200, 200, 60, 40},
-                                      {"test05", 61, "5, 15", 200, 200, 81, 19},
-                                      {"test06", 61, "3, 10, 30", 100, 150, 81, 19},
-                                      {"test07", 32, "5, 15", 200, 200, 73, 27},
-                                      {"test08", 32, "3, 10, 30", 100, 150, 70, 30},
-                                      {"test09", 32, "5, 15", 100, 150, 69, 31}};
-constexpr int kPaperTable3Tp[] = {76, 70, 60, 47, 37, 23};
-
 // A gnuplot script that draws curves (inline data blocks) into a PNG.
 // Each curve has its own colour (the method's or the bin's, from a palette of 12); the occluded
 // curves of the ROC are dashed in their method's colour.
@@ -364,9 +372,9 @@ int run_bench_rec(const BenchRecOptions& o) {
   // The rows: proxseg's defaults, the sweeps (one change each, like Table 2), the peers.
   std::vector<Row> rows;
   std::vector<std::unique_ptr<proxseg::Database>> sweep_dbs;
-  const auto add_proxseg = [&](const std::string& label, const std::string& kind,
-                               const std::string& paper, const proxseg::Database& d,
-                               const proxseg::RecognitionParams& p, int views) {
+  const auto add_proxseg = [&](const std::string& label, const std::string& kind, int paper,
+                               const proxseg::Database& d, const proxseg::RecognitionParams& p,
+                               int views) {
     Row r;
     r.label = label;
     r.kind = kind;
@@ -378,7 +386,7 @@ int run_bench_rec(const BenchRecOptions& o) {
     r.run = proxseg_recogniser(d, p);
     rows.push_back(std::move(r));
   };
-  add_proxseg("proxseg", "proxseg", "test01 (61 views): 80 / 20", db, rp, o.views);
+  add_proxseg("proxseg", "proxseg", 0, db, rp, o.views);
   rows.back().clean_tests = static_cast<int>(clean.size());
   rows.back().occluded_tests = static_cast<int>(occluded.size());
   const int sweep_tests = o.no_sweep ? 0 : std::min<int>(o.sweep_tests, clean.size());
@@ -390,12 +398,9 @@ int run_bench_rec(const BenchRecOptions& o) {
     };
     for (int views : {4, 2})
       if (views < o.views)
-        add_proxseg(std::to_string(views) + " views per object", "sweep",
-                    views == 4 ? "test02 (32 views): 70 / 30" : "test04 (24 views): 60 / 40",
+        add_proxseg(std::to_string(views) + " views per object", "sweep", views == 4 ? 1 : 3,
                     sweep_db(views, descriptor), rp, views);
-    const std::pair<std::vector<double>, const char*> radii[] = {
-        {{0.015}, "test05 (5, 15 mm): 81 / 19"},
-        {{0.01, 0.02, 0.04}, "test03 (3, 10, 30 mm): 83 / 17"}};
+    const std::pair<std::vector<double>, int> radii[] = {{{0.015}, 4}, {{0.01, 0.02, 0.04}, 2}};
     for (const auto& [r, paper] : radii) {
       proxseg::DescriptorParams d = descriptor;
       d.fpfh_radii = r;
@@ -404,8 +409,7 @@ int run_bench_rec(const BenchRecOptions& o) {
     proxseg::RecognitionParams fewer = rp;
     fewer.registration.ransac_iterations = 250;
     fewer.registration.icp_iterations = 10;
-    add_proxseg("RANSAC 250, ICP 10", "sweep", "test06 (100 / 150 it.): 81 / 19", db, fewer,
-                o.views);
+    add_proxseg("RANSAC 250, ICP 10", "sweep", 5, db, fewer, o.views);
     for (std::size_t i = 1; i < rows.size(); ++i) rows[i].clean_tests = sweep_tests;
   }
 #ifdef PROXSEG_WITH_PEERS
@@ -512,7 +516,7 @@ int run_bench_rec(const BenchRecOptions& o) {
                         {"fpfh_radii", r.radii},
                         {"ransac_iterations", r.ransac},
                         {"icp_iterations", r.icp},
-                        {"paper_analogue", r.paper}};
+                        {"paper_analogue", r.paper < 0 ? "" : kPaperTable2[r.paper].name}};
     j["sets"]["clean"] = rates_json(proxseg::rates(c, r.clean, objects, m));
     double stage[4] = {0, 0, 0, 0};
     for (const Answer& a : r.clean) {
@@ -559,7 +563,8 @@ int run_bench_rec(const BenchRecOptions& o) {
     };
     const int colour = static_cast<int>(&r - rows.data());
     Curve roc{r.label + " (" + std::to_string(c.size()) + " tests)", {}, colour};
-    for (const auto& p : curve("clean", c, r.clean, {})) roc.xy.emplace_back(p.fp_rate, p.tp_rate);
+    const auto clean_points = curve("clean", c, r.clean, {});
+    for (const auto& p : clean_points) roc.xy.emplace_back(p.fp_rate, p.tp_rate);
     roc_curves.push_back(roc);
     if (!oc.empty()) {  // Fig. 3b's occluded tests, all bins together
       Curve roc_occluded{
@@ -577,8 +582,7 @@ int run_bench_rec(const BenchRecOptions& o) {
     }
     if (r.kind == "proxseg") {
       Curve pr{"no occlusion", {}};
-      for (const auto& p : proxseg::score_curve(c, r.clean, objects))
-        pr.xy.emplace_back(p.tp_rate, p.precision);
+      for (const auto& p : clean_points) pr.xy.emplace_back(p.tp_rate, p.precision);
       pr_curves.insert(pr_curves.begin(), pr);
     }
   }
@@ -617,27 +621,26 @@ int run_bench_rec(const BenchRecOptions& o) {
      << "| run | views / object | FPFH radii (mm) | RANSAC | ICP | tests | TP (%) | FP (%) | "
         "unknown (%) | pose ok (%) | ms / view | paper (TP / FP %) |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  const auto table2_row = [&](const Row& r, std::size_t n, const std::string& label) {
+  // The first n tests of row r (rates() stops at the shorter of tests and answers).
+  const auto table2_row = [&](const Row& r, std::size_t n, const std::string& label, int paper) {
     const proxseg::Rates x = proxseg::rates(subset(clean, n), r.clean, objects, m);
     md << "| " << label << " | " << r.views << " | " << radii_mm(r.radii) << " | " << r.ransac
        << " | " << r.icp << " | " << x.tests << " | " << pct(x.tp_rate()) << " | "
        << pct(x.fp_rate()) << " | " << pct(double(x.unknown) / std::max(x.tests, 1)) << " | "
-       << pct(x.pose_rate()) << " | " << fmt(x.mean_ms, 0) << " | " << r.paper << " |\n";
+       << pct(x.pose_rate()) << " | " << fmt(x.mean_ms, 0) << " | " << paper_row(paper) << " |\n";
   };
-  table2_row(main_row, main_row.clean.size(), "proxseg (defaults)");
+  table2_row(main_row, main_row.clean.size(), "proxseg (defaults)", main_row.paper);
   if (sweep_tests > 0) {
-    Row first = main_row;
-    first.clean.resize(sweep_tests);
-    first.paper = "";
-    table2_row(first, sweep_tests, "proxseg (defaults), first " + std::to_string(sweep_tests));
+    table2_row(main_row, sweep_tests, "proxseg (defaults), first " + std::to_string(sweep_tests),
+               -1);
     for (const Row& r : rows)
-      if (r.kind == "sweep") table2_row(r, r.clean.size(), r.label);
+      if (r.kind == "sweep") table2_row(r, r.clean.size(), r.label, r.paper);
   }
-  md << "\nThe paper's rows: test01 61 views 80 / 20, test02 32 views 70 / 30, test03 61 views "
-        "(3, 10, 30 mm) 83 / 17, test04 24 views 60 / 40, test05 61 views (5, 15 mm) 81 / 19, "
-        "test06 (RANSAC 100, ICP 150) 81 / 19, test07-09 32 views 73, 70, 69 / 27, 30, 31 "
-        "(its database: 8 objects, 61 views; ours renders "
-     << o.views << " per object).\n\n";
+  md << "\nThe paper's Table 2 (its database: 8 objects, 61 views in all; ours renders " << o.views
+     << " per object): ";
+  for (int i = 0; i < static_cast<int>(std::size(kPaperTable2)); ++i)
+    md << (i ? "; " : "") << paper_row(i);
+  md << ".\n\n";
 
   md << "### Table 3 analogue (occlusion, proxseg defaults)\n\n| occlusion (%) |";
   for (const auto& b : bins) md << " " << bin_name(b) << " |";
@@ -661,10 +664,10 @@ int run_bench_rec(const BenchRecOptions& o) {
   bin_line("paper FP (%)", [&](std::size_t b) { return std::to_string(100 - kPaperTable3Tp[b]); });
   md << "\n\n";
 
-  bool any_peer = false;
-  for (const Row& r : rows) any_peer |= r.kind == "peer";
-  if (any_peer) {
-    const int pc = rows.back().clean_tests, po = rows.back().occluded_tests;
+  const auto peer =
+      std::find_if(rows.begin(), rows.end(), [](const Row& r) { return r.kind == "peer"; });
+  if (peer != rows.end()) {  // every peer runs the same tests
+    const int pc = peer->clean_tests, po = peer->occluded_tests;
     md << "### Against the peers (the same " << pc << " test views and " << po
        << " occluded ones)\n\n"
        << "Each peer aligns every database view with its own registration; its poses are scored "

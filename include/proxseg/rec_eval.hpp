@@ -54,7 +54,7 @@ struct TestView {
   double distance = 0, nearest_view_deg = 0;
   Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();  // camera <- model
   std::vector<Eigen::Vector3d> points;
-  int bin = -1;             // occlusion bin (index into OcclusionBins), -1 = not occluded
+  int bin = -1;             // occlusion bin (index into the bins), -1 = not occluded
   double occlusion = 0;     // share of the view's points removed
   int rendered_points = 0;  // before occlusion
 };
