@@ -2,6 +2,8 @@
 #   make demo   install what is missing (apt), build, segment the built-in synthetic scene
 #               (and a real mOSD scene when ../shared/data is present)
 #   make test   install what is missing, build, run every test (ctest)
+#   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+#   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
@@ -12,7 +14,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test bench bench-seg bench-rec format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec format clean
 
 all: build
 
@@ -36,6 +38,25 @@ demo: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The whole suite under ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails
+# the test it happens in. Its own build tree, without the benchmarks.
+SAN_BUILD ?= build-sanitize
+SAN_FLAGS = -O2 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
+test-sanitize: deps
+	@cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" \
+	  -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
+	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
+	@cmake --build $(SAN_BUILD) -j $(JOBS)
+	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+	  LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp):print_suppressions=0 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer on every reader (clang-14): FUZZ_TIME seconds per harness, FUZZ_JOBS at once.
+FUZZ_TIME ?= 1800
+fuzz:
+	@bash scripts/install-deps.sh --fuzz
+	@FUZZ_TIME=$(FUZZ_TIME) DATA=$(DATA) bash scripts/fuzz.sh
 
 # Benchmarks need PCL (the peers); it is installed here, never for the library or the tests.
 deps-bench:
@@ -68,7 +89,7 @@ bench-rec: deps-bench configure
 	@echo "docs/results.md (recognition) regenerated; tables, CSV and plots in $(REC_OUT)/"
 
 format:
-	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp bench/*.cpp
+	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)

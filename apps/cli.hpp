@@ -43,6 +43,18 @@ class Progress {
   bool tty_;
 };
 
+// Interrupts (SIGINT, SIGTERM) during batch work: after catch_interrupts(), the first one only
+// sets interrupted(), so that the batch stops between items with whole output files and writes
+// a summary of what was done; a second one ends the process at once (the default action).
+void catch_interrupts();
+bool interrupted();
+// Exit code of a batch stopped by an interrupt (128 + SIGINT, the shell's convention).
+constexpr int kInterruptedExit = 130;
+
+// Resident memory of this process now, and its peak so far, in MiB (Linux /proc, getrusage).
+double rss_mib();
+double peak_rss_mib();
+
 // `proxseg db add|render|info`
 struct DbOptions {
   std::string dir, name, xyz, mesh, units = "m";

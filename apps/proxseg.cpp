@@ -7,7 +7,11 @@
 #include <proxseg/pipeline.hpp>
 #include <proxseg/render.hpp>
 
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <fstream>
 
 #include <CLI/CLI.hpp>
 
@@ -127,6 +131,41 @@ void Progress::step(const std::string& what) {
   }
 }
 
+namespace {
+// The one piece of process state a signal handler may touch (async-signal-safe).
+volatile std::sig_atomic_t interrupt_signal = 0;
+
+extern "C" void on_interrupt(int sig) {
+  interrupt_signal = sig;
+  std::signal(sig, SIG_DFL);  // a second interrupt ends the process at once
+  const char msg[] =
+      "\nproxseg: interrupted: finishing the current item (interrupt again to abort)\n";
+  [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+}
+}  // namespace
+
+void catch_interrupts() {
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+}
+
+bool interrupted() {
+  return interrupt_signal != 0;
+}
+
+double rss_mib() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  if (!(statm >> pages >> resident)) return 0;
+  return static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+double peak_rss_mib() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
 }  // namespace cli
 
 namespace {
@@ -135,7 +174,7 @@ using proxseg::InputError;
 using namespace cli;
 
 struct SegmentCommand : SegmentOptions {
-  std::string output, config, candidates_dir;
+  std::string output, config, candidates_dir, batch;
   bool json = false;
 };
 
@@ -145,8 +184,12 @@ void add_segment(CLI::App& app, SegmentCommand& o) {
   cmd->add_option("input", o.input,
                   "Point cloud (.pcd organized or not, .ply); or use --color/--depth");
   cmd->add_option("-o,--output", o.output,
-                  "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json")
+                  "Output prefix: writes PREFIX.pcd, PREFIX.png, PREFIX.json (with --batch: a "
+                  "folder of SCENE.pcd/.png/.json and summary.json)")
       ->required();
+  cmd->add_option("--batch", o.batch,
+                  "Segment every .pcd and .ply of this folder (an interrupt stops after the "
+                  "current scene and writes the summary)");
   cmd->add_option("--config", o.config,
                   "JSON parameters over the preset (same layout as the report's \"parameters\")");
   cmd->add_option("--candidates-dir", o.candidates_dir,
@@ -155,17 +198,92 @@ void add_segment(CLI::App& app, SegmentCommand& o) {
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
 }
 
+// One scene of a batch: its outputs, or the error that stopped it.
+nlohmann::json segment_one(const std::filesystem::path& file, const std::string& prefix,
+                           const proxseg::SegmentParams& params) {
+  nlohmann::json row = {{"scene", file.filename().string()}};
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const proxseg::Frame frame = proxseg::read_point_cloud(file.string());
+    const proxseg::SegmentResult result = proxseg::segment(frame, params);
+    const nlohmann::json report = proxseg::write_segmentation(prefix, frame, params, result);
+    row["outputs"] = {prefix + ".pcd", prefix + ".png", prefix + ".json"};
+    row["k"] = result.k();
+    row["candidates"] = report["selection"]["candidates"];
+    row["ms"] =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  } catch (const InputError& e) {
+    row["error"] = e.what();
+  }
+  // Memory after each scene: a batch must not grow (docs/robustness.md).
+  row["rss_mib"] = rss_mib();
+  return row;
+}
+
+// `segment --batch DIR -o OUT`: OUT/<scene>.{pcd,png,json} per scene and OUT/summary.json. A scene
+// that cannot be read is reported and skipped; an interrupt stops between scenes.
+int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& params) {
+  if (!o.input.empty() || !o.color.empty() || !o.depth.empty())
+    throw CLI::ValidationError("--batch takes a folder instead of INPUT or --color/--depth");
+  if (!o.candidates_dir.empty())
+    throw CLI::ValidationError("--candidates-dir goes without --batch");
+  const auto files = proxseg::scene_files(o.batch, {".pcd", ".ply"});
+  const std::filesystem::path out(o.output);
+  make_parent((out / "summary.json").string());
+  for (const auto& f : files)
+    if (std::filesystem::equivalent(f.parent_path(), out))
+      throw CLI::ValidationError("--output must not be the input folder (it would overwrite " +
+                                 f.filename().string() + ")");
+  catch_interrupts();
+  nlohmann::json scenes = nlohmann::json::array();
+  Progress progress(files.size());
+  std::size_t failed = 0;
+  for (const auto& f : files) {
+    if (interrupted()) break;
+    scenes.push_back(segment_one(f, (out / f.stem()).string(), params));
+    failed += scenes.back().contains("error");
+    progress.step(f.filename().string() + (scenes.back().contains("error") ? " (failed)" : ""));
+  }
+  const nlohmann::json summary = {{"folder", o.batch},
+                                  {"scenes_total", files.size()},
+                                  {"scenes_done", scenes.size() - failed},
+                                  {"scenes_failed", failed},
+                                  {"interrupted", interrupted()},
+                                  {"peak_rss_mib", peak_rss_mib()},
+                                  {"scenes", scenes},
+                                  {"parameters", proxseg::to_json(params)}};
+  proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
+  if (o.json) std::cout << summary.dump(2) << "\n";
+  std::cout << (out / "summary.json").string() << ": " << scenes.size() - failed << " of "
+            << files.size() << " scenes segmented"
+            << (failed ? ", " + std::to_string(failed) + " failed" : "")
+            << (interrupted() ? " (interrupted)" : "") << "\n";
+  for (const auto& row : scenes)
+    if (row.contains("error"))
+      std::cerr << "proxseg: error: " << row["error"].get<std::string>() << "\n";
+  if (interrupted()) return kInterruptedExit;
+  return failed ? 1 : 0;
+}
+
 int run_segment(const SegmentCommand& o) {
+  if (!o.batch.empty()) {
+    proxseg::SegmentParams base = proxseg::preset(o.preset);
+    if (!o.config.empty()) base = proxseg::read_params(o.config, base);
+    return run_segment_batch(o, segment_params(o, base));
+  }
   check_scene_options(o, {o.output + ".pcd", o.output + ".png", o.output + ".json"});
   proxseg::SegmentParams base = proxseg::preset(o.preset);
   if (!o.config.empty()) base = proxseg::read_params(o.config, base);
   const proxseg::SegmentParams params = segment_params(o, base);
+  make_parent(o.output);  // before the work: an unwritable output fails at once
   const proxseg::Frame frame = read_input(o);
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
             << frame.height << ")\n";
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
-  make_parent(o.output);
   const nlohmann::json report = proxseg::write_segmentation(o.output, frame, params, result);
+  if (const auto far = report["input"]["out_of_range_points"].get<std::size_t>(); far > 0)
+    std::cerr << "proxseg: warning: " << far
+              << " points too far out to voxelise (coordinates beyond 1e9 voxels) are unlabelled\n";
   if (!o.candidates_dir.empty()) {
     const auto files = proxseg::write_candidates(o.candidates_dir, frame, result);
     std::cerr << "proxseg: " << files.size() << " candidate clouds in " << o.candidates_dir << "\n";
@@ -271,7 +389,9 @@ int run_eval_batch(const EvalOptions& o) {
   std::vector<proxseg::SceneScores> scenes;
   Progress progress(files.size());
   std::size_t unlabelled = 0;
+  catch_interrupts();
   for (const auto& file : files) {
+    if (interrupted()) break;
     const proxseg::Frame truth = proxseg::read_pcd(file.string());
     if (truth.label.empty()) {
       ++unlabelled;
@@ -302,6 +422,8 @@ int run_eval_batch(const EvalOptions& o) {
                             {"method", method},
                             {"scenes", scenes.size()},
                             {"skipped_unlabelled", unlabelled},
+                            {"scenes_total", files.size()},
+                            {"interrupted", interrupted()},
                             {"summary", proxseg::summary_json(rows)}};
   if (o.pred_dir.empty()) summary["parameters"] = proxseg::to_json(params);
   const std::string markdown = proxseg::summary_markdown(rows);
@@ -318,7 +440,7 @@ int run_eval_batch(const EvalOptions& o) {
     std::cout << summary.dump(2) << "\n";
   else
     std::cout << markdown;
-  return 0;
+  return interrupted() ? kInterruptedExit : 0;
 }
 
 int run_eval(const EvalOptions& o) {

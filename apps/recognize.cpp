@@ -118,6 +118,8 @@ int run_recognize(const RecognizeOptions& o) {
   if (!o.config.empty()) std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec);
   seg = segment_params(o, seg);
   rec = recognition_params(o, rec);
+  if (!o.output.empty())
+    make_parent(o.output);  // before the work: an unwritable output fails at once
 
   const auto start = Clock::now();
   const proxseg::Database db = proxseg::load_database(o.db);
@@ -193,7 +195,6 @@ int run_recognize(const RecognizeOptions& o) {
   if (!o.output.empty()) {
     // Both files are made in memory first; neither is left behind alone.
     const std::string png = proxseg::recognition_image_png(frame, objects, db);
-    make_parent(o.output);
     proxseg::write_file_atomic(o.output + ".json", report.dump(2) + "\n");
     try {
       proxseg::write_file_atomic(o.output + ".png", png);

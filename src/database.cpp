@@ -3,6 +3,7 @@
 #include <proxseg/database.hpp>
 #include <proxseg/io.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +98,15 @@ Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
                  Eigen::Vector3d(vp[0], vp[1], vp[2]));
 }
 
+// A view's files must lie inside the database directory: the index is data, and must not make
+// the loader read files elsewhere (another database's, or a device such as /dev/zero).
+void check_inside(const std::string& where, const std::string& rel) {
+  const fs::path p(rel);
+  const bool up = std::any_of(p.begin(), p.end(), [](const fs::path& c) { return c == ".."; });
+  if (rel.empty() || p.is_absolute() || up)
+    fail(where, "view file \"" + rel + "\" is not a relative path inside the database directory");
+}
+
 // File-name-safe form of an object name.
 std::string slug(const std::string& name) {
   std::string s;
@@ -177,7 +187,7 @@ Database load_database(const std::string& dir) {
     fail(path, "field \"units\" is not \"metres\"");
   Database db;
   db.dir = dir;
-  const auto& d = j.at("descriptor");
+  const auto d = field<nlohmann::json>(path, j, "descriptor");
   db.descriptor.voxel_size = field<double>(path + " descriptor", d, "voxel_size");
   db.descriptor.normal_radius = field<double>(path + " descriptor", d, "normal_radius");
   db.descriptor.fpfh_radii = field<std::vector<double>>(path + " descriptor", d, "fpfh_radii");
@@ -196,10 +206,13 @@ Database load_database(const std::string& dir) {
       const std::string where = path + " object " + name;
       mv.file = field<std::string>(where, v, "file");
       mv.features = field<std::string>(where, v, "features");
+      check_inside(where, mv.file);
+      check_inside(where, mv.features);
       mv.source =
           v.contains("source") && v["source"].is_string() ? v["source"].get<std::string>() : "";
       const std::string pcd = (fs::path(dir) / mv.file).string();
-      if (!fs::exists(pcd)) fail(pcd, "is missing (view of " + name + " listed in " + path + ")");
+      if (!fs::is_regular_file(pcd))
+        fail(pcd, "is missing (view of " + name + " listed in " + path + "; expected a PCD file)");
       const Frame f = read_pcd(pcd);
       std::vector<Eigen::Vector3d> points;
       for (std::size_t i = 0; i < f.size(); ++i)

@@ -89,13 +89,21 @@ std::string scene_category(const std::string& scene_name) {
                    : "other";
 }
 
-std::vector<std::filesystem::path> scene_files(const std::string& dir) {
+std::vector<std::filesystem::path> scene_files(const std::string& dir,
+                                               const std::vector<std::string>& extensions) {
+  std::string wanted;
+  for (const auto& e : extensions) wanted += (wanted.empty() ? "" : " or ") + e;
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec))
-    throw InputError(dir + ": not a directory (expected a folder of labelled PCD scenes)");
+    throw InputError(dir + ": not a directory (expected a folder of " + wanted + " scenes)");
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.is_regular_file() && e.path().extension() == ".pcd") files.push_back(e.path());
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (e.is_regular_file() &&
+        std::find(extensions.begin(), extensions.end(), ext) != extensions.end())
+      files.push_back(e.path());
+  }
   // Natural order: the trailing number of the stem compares as a number.
   auto key = [](const std::filesystem::path& p) {
     const std::string stem = p.stem().string();
@@ -107,7 +115,7 @@ std::vector<std::filesystem::path> scene_files(const std::string& dir) {
   std::sort(files.begin(), files.end(), [&](const auto& a, const auto& b) {
     return std::make_pair(key(a), a.string()) < std::make_pair(key(b), b.string());
   });
-  if (files.empty()) throw InputError(dir + ": no .pcd files (expected labelled PCD scenes)");
+  if (files.empty()) throw InputError(dir + ": no " + wanted + " files (expected scenes)");
   return files;
 }
 

@@ -143,11 +143,17 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
                                    const SegmentResult& r) {
   nlohmann::json j;
   j["parameters"] = to_json(params);
+  // Finite points too far out to voxelise (|x| / voxel size beyond 1e9) are left unlabelled like
+  // invalid ones; counted here so that they are not dropped silently.
+  std::size_t out_of_range = 0;
+  for (std::size_t i = 0; i < frame.size() && i < r.voxels.voxel_of_point.size(); ++i)
+    out_of_range += frame.valid(i) && r.voxels.voxel_of_point[i] < 0;
   j["input"] = {{"width", frame.width},
                 {"height", frame.height},
                 {"organized", frame.organized()},
                 {"points", frame.size()},
-                {"valid_points", frame.valid_count()}};
+                {"valid_points", frame.valid_count()},
+                {"out_of_range_points", out_of_range}};
   double total = 0;
   nlohmann::json times = nlohmann::json::object();
   for (const auto& [stage, ms] : r.times_ms) {

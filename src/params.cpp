@@ -191,7 +191,7 @@ json read_json_file(const std::string& path) {
   if (!in) throw InputError(path + ": cannot open config file");
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers out of range (out_of_range.406)
     throw InputError(path + ": not valid JSON (" + e.what() + ")");
   }
 }

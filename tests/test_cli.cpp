@@ -1,6 +1,8 @@
 // The proxseg command line: outputs, exit codes (0 ok, 1 bad input, 2 usage), error messages.
 #include <proxseg/io.hpp>
 
+#include "cli_util.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -14,45 +16,10 @@
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kData = PROXSEG_DATA_DIR;
-const std::string kCli = PROXSEG_CLI;
+using namespace cli_test;
 const fs::path kTmp = fs::path(PROXSEG_TEST_TMP) / "cli";
-
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 CliRun run(const std::string& args) {
-  fs::create_directories(kTmp);
-  // ctest runs test cases in parallel processes: one pair of capture files per test case.
-  const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::string out = (kTmp / (name + ".stdout")).string(),
-                    err = (kTmp / (name + ".stderr")).string();
-  const int status = std::system((kCli + " " + args + " >" + out + " 2>" + err).c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
-
-std::string learn0() {
-  const std::string p = kData + "/mosd/learn/learn0.pcd";
-  if (!fs::exists(p)) ADD_FAILURE() << "missing real data: " << p;
-  return p;
-}
-
-// Exit 1, one line on stderr naming `name`, and none of PREFIX.{pcd,png,json} written.
-void expect_input_error(const CliRun& r, const std::string& name, const fs::path& prefix) {
-  EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  for (const char* ext : {".pcd", ".png", ".json"})
-    EXPECT_FALSE(fs::exists(prefix.string() + ext)) << ext;
+  return run_in(kTmp, args);
 }
 }  // namespace
 
@@ -131,6 +98,7 @@ TEST(Cli, RgbdPairWithMeta) {
   EXPECT_TRUE(fs::exists(o.string() + ".png"));
 }
 
+// More bad inputs, one test each, in test_robustness.cpp (the table of docs/robustness.md).
 TEST(Cli, BadInputsExitOneWithTheFileNamedAndNoOutput) {
   fs::create_directories(kTmp);
   const fs::path o = kTmp / "bad";
@@ -139,40 +107,11 @@ TEST(Cli, BadInputsExitOneWithTheFileNamedAndNoOutput) {
   std::ofstream(kTmp / "cloud.xyz") << "0 0 1\n";
   expect_input_error(run("segment " + (kTmp / "cloud.xyz").string() + " -o " + o.string()),
                      "cloud.xyz", o);
-  std::ofstream(kTmp / "nocolour.pcd")
-      << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-         "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1\n";
-  expect_input_error(run("segment " + (kTmp / "nocolour.pcd").string() + " -o " + o.string()),
-                     "nocolour.pcd", o);
-  std::ofstream(kTmp / "nan.pcd")
-      << "VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
-         "WIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n"
-         "nan nan nan 0\nnan nan nan 0\n";
-  expect_input_error(run("segment " + (kTmp / "nan.pcd").string() + " -o " + o.string()), "nan.pcd",
-                     o);
   // A real file cut in half.
   const std::string whole = slurp(learn0());
   std::ofstream(kTmp / "truncated.pcd", std::ios::binary) << whole.substr(0, whole.size() / 2);
   expect_input_error(run("segment " + (kTmp / "truncated.pcd").string() + " -o " + o.string()),
                      "truncated.pcd", o);
-  // Colour and depth of different sizes.
-  const std::string base = kData + "/ycbv/frames/000001";
-  cv::Mat depth = cv::imread(base + "-depth.png", cv::IMREAD_UNCHANGED), small;
-  cv::resize(depth, small, cv::Size(320, 240), 0, 0, cv::INTER_NEAREST);
-  cv::imwrite((kTmp / "small-depth.png").string(), small);
-  expect_input_error(
-      run("segment --color " + base + "-color.png --depth " + (kTmp / "small-depth.png").string() +
-          " --meta " + base + "-meta.json -o " + o.string()),
-      "small-depth.png", o);
-  // Configs: unknown key, wrong type.
-  std::ofstream(kTmp / "unknown.json") << R"({"mrf": {"pairwise_wieght": 0.1}})";
-  expect_input_error(run("segment " + learn0() + " --config " + (kTmp / "unknown.json").string() +
-                         " -o " + o.string()),
-                     "pairwise_wieght", o);
-  std::ofstream(kTmp / "wrongtype.json") << R"({"voxels": {"voxel_size": "big"}})";
-  expect_input_error(run("segment " + learn0() + " --config " + (kTmp / "wrongtype.json").string() +
-                         " -o " + o.string()),
-                     "voxels.voxel_size", o);
   expect_input_error(run("segment " + learn0() + " --voxel-size -1 -o " + o.string()), "voxel_size",
                      o);
 }
@@ -184,22 +123,6 @@ TEST(Cli, OutputCannotOverwriteTheInput) {
   EXPECT_EQ(
       run("segment " + (kTmp / "scene.pcd").string() + " -o " + (kTmp / "scene").string()).code, 2);
   EXPECT_EQ(fs::file_size(kTmp / "scene.pcd"), before);
-}
-
-TEST(Cli, UnwritableOutputIsAnInputErrorWithNothingLeft) {
-  fs::create_directories(kTmp);
-  std::ofstream(kTmp / "a-file") << "x";
-  const CliRun r = run("segment " + learn0() + " -o " + (kTmp / "a-file" / "out").string());
-  EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find("a-file"), std::string::npos) << r.err;
-}
-
-TEST(Cli, ByteIdenticalOutputsAtOneAndTwoThreads) {
-  const fs::path a = kTmp / "t1", b = kTmp / "t2";
-  ASSERT_EQ(run("segment " + learn0() + " --threads 1 -o " + a.string()).code, 0);
-  ASSERT_EQ(run("segment " + learn0() + " --threads 2 -o " + b.string()).code, 0);
-  EXPECT_EQ(slurp(a.string() + ".pcd"), slurp(b.string() + ".pcd"));
-  EXPECT_EQ(slurp(a.string() + ".png"), slurp(b.string() + ".png"));
 }
 
 TEST(Cli, SynthWritesAGroundTruthScene) {

@@ -38,9 +38,11 @@ SceneScores score_scene(const Frame& truth, const std::vector<std::uint32_t>& pr
 // 17-24 stacked, 25-32 occluded, 33-44 cylindric; any other name -> "other".
 std::string scene_category(const std::string& scene_name);
 
-// The .pcd files of a folder in natural order (learn2 before learn10). InputError if the folder
-// does not exist or holds no .pcd file.
-std::vector<std::filesystem::path> scene_files(const std::string& dir);
+// The files of a folder with one of the extensions (lower case), in natural order (learn2 before
+// learn10). InputError if the folder does not exist or holds no such file.
+std::vector<std::filesystem::path> scene_files(const std::string& dir,
+                                               const std::vector<std::string>& extensions = {
+                                                   ".pcd"});
 
 // Means over scenes of every score, per method and category, plus an "all" category.
 struct SummaryRow {
