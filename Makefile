@@ -6,6 +6,7 @@
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn
+#   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
 #                   Open3D and PCL peers
 BUILD ?= build
@@ -14,7 +15,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem format clean
 
 all: build
 
@@ -62,7 +63,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec
+bench: bench-seg bench-rec bench-mem
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench
@@ -71,6 +72,15 @@ bench-seg: deps-bench configure
 	  --csv $(BUILD)/bench-out/segmentation.csv
 	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
 	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
+
+# Peak RSS of one frame and of a 64-view recognition; RSS over a 100-frame batch (no growth).
+bench-mem: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli mem_bench
+	@mkdir -p $(BUILD)/bench-out
+	@$(BUILD)/bench/mem_bench --cli $(BUILD)/proxseg --data $(DATA) --out $(BUILD)/bench-out/memory.md \
+	  --json $(BUILD)/bench-out/memory.json
+	@bash scripts/update-results.sh docs/results.md memory $(BUILD)/bench-out/memory.md
+	@echo "docs/results.md (memory) regenerated"
 
 # The paper's recognition experiments (Tables 2-3, ROC) with the peers: about 45 min on 2 cores.
 REC_OUT = $(BUILD)/bench-out/rec

@@ -13,7 +13,6 @@
 #include <fstream>
 #include <limits>
 #include <numeric>
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -254,32 +253,48 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
   YcbFrame y;
   y.intrinsics = read_ycb_meta(meta_path);
   y.frame = read_rgbd(base + "-color.png", base + "-depth.png", y.intrinsics);
-  const cv::Mat label = cv::imread(label_path, cv::IMREAD_UNCHANGED);
-  if (label.empty() || label.type() != CV_8UC1 || label.cols != y.frame.width ||
-      label.rows != y.frame.height)
-    throw InputError(label_path + ": expected an 8-bit one-channel PNG the size of the frame");
+  const std::vector<std::uint8_t> label =
+      read_label_image(label_path, y.frame.width, y.frame.height);
   nlohmann::json meta;
   {
     std::ifstream in(meta_path);
-    meta = nlohmann::json::parse(in, nullptr, false);
+    meta = nlohmann::json::parse(in, nullptr, false);  // read_ycb_meta has parsed it already
   }
-  const auto& ids = meta["cls_indexes"];
-  const auto& poses = meta["poses"];
-  if (!ids.is_array() || !poses.is_array() || poses.size() != 3)
-    throw InputError(meta_path + ": expected cls_indexes and poses (3 x 4 x N)");
-  for (std::size_t n = 0; n < ids.size(); ++n) {
+  // cls_indexes: N ids (or [id] each); poses: 3 x 4 x N numbers.
+  const auto bad = [&](const std::string& what) {
+    throw InputError(meta_path + ": " + what + " (expected cls_indexes of N class ids and poses " +
+                     "of 3 x 4 x N numbers)");
+  };
+  if (!meta.is_object() || !meta.contains("cls_indexes") || !meta.contains("poses"))
+    bad("missing cls_indexes or poses");
+  const auto& ids = meta.at("cls_indexes");
+  const auto& poses = meta.at("poses");
+  if (!ids.is_array()) bad("cls_indexes is not an array");
+  const std::size_t n_objects = ids.size();
+  if (!poses.is_array() || poses.size() != 3) bad("poses is not 3 rows");
+  for (const auto& row : poses) {
+    if (!row.is_array() || row.size() != 4) bad("a row of poses has not 4 columns");
+    for (const auto& cell : row) {
+      if (!cell.is_array() || cell.size() != n_objects) bad("poses has not one value per object");
+      for (const auto& v : cell)
+        if (!v.is_number() || !std::isfinite(v.get<double>())) bad("poses has a non-number");
+    }
+  }
+  for (std::size_t n = 0; n < n_objects; ++n) {
     ObjectTruth o;
-    const auto& id = ids[n].is_array() ? ids[n][0] : ids[n];
-    o.class_index = id.get<int>();
-    if (o.class_index < 1 || o.class_index > static_cast<int>(classes.size()))
+    const auto& id = ids[n].is_array() && ids[n].size() == 1 ? ids[n][0] : ids[n];
+    if (!id.is_number_integer()) bad("cls_indexes[" + std::to_string(n) + "] is not an integer");
+    const auto index = id.get<std::int64_t>();
+    if (index < 1 || index > static_cast<std::int64_t>(classes.size()))
       throw InputError(meta_path + ": cls_indexes[" + std::to_string(n) +
-                       "] = " + std::to_string(o.class_index) + " is not a class of classes.txt");
+                       "] = " + std::to_string(index) + " is not a class of classes.txt");
+    o.class_index = static_cast<int>(index);
     o.name = classes[o.class_index - 1];
     o.pose.setIdentity();
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) o.pose(r, c) = poses[r][c][n].get<double>();
-    for (int i = 0; i < label.rows * label.cols; ++i)
-      if (label.data[i] == o.class_index && y.frame.valid(i)) o.points.push_back(i);
+    for (std::size_t i = 0; i < label.size(); ++i)
+      if (label[i] == o.class_index && y.frame.valid(i)) o.points.push_back(static_cast<int>(i));
     y.objects.push_back(std::move(o));
   }
   return y;

@@ -545,8 +545,46 @@ std::string mat_kind(const cv::Mat& m) {
   return d + " " + std::to_string(m.channels()) + "-channel";
 }
 
+// Width and height from a PNG or JPEG header (0, 0 when neither or not found), read before OpenCV
+// decodes: a header may claim a size whose buffer would exhaust memory.
+std::pair<std::uint64_t, std::uint64_t> image_size_from_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(1 << 16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const auto* b = reinterpret_cast<const unsigned char*>(head.data());
+  auto be32 = [&](std::size_t at) {
+    return std::uint64_t{b[at]} << 24 | std::uint64_t{b[at + 1]} << 16 |
+           std::uint64_t{b[at + 2]} << 8 | b[at + 3];
+  };
+  if (head.size() >= 24 && head.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
+      head.compare(12, 4, "IHDR") == 0)
+    return {be32(16), be32(20)};
+  if (head.size() >= 4 && b[0] == 0xFF && b[1] == 0xD8) {
+    // JPEG: walk the marker segments to the first frame header (SOF0..SOF15 but DHT, JPG, DAC).
+    for (std::size_t at = 2; at + 9 < head.size();) {
+      if (b[at] != 0xFF) break;
+      const unsigned marker = b[at + 1];
+      const std::size_t len = std::size_t{b[at + 2]} << 8 | b[at + 3];
+      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC)
+        return {std::uint64_t{b[at + 7]} << 8 | b[at + 8],
+                std::uint64_t{b[at + 5]} << 8 | b[at + 6]};
+      if (len < 2) break;
+      at += 2 + len;
+    }
+  }
+  return {0, 0};
+}
+
+// Larger images are refused before decoding (a 16-bit 8192 x 8192 depth image is 128 MiB).
+constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 8192;
+
 cv::Mat read_image(const std::string& path) {
   require_file(path);
+  const auto [w, h] = image_size_from_header(path);
+  if (w * h > kMaxImagePixels)
+    fail(path, "image header says " + std::to_string(w) + "x" + std::to_string(h) +
+                   " pixels (expected at most 8192x8192)");
   cv::Mat m;
   try {
     m = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -786,6 +824,18 @@ Intrinsics read_ycb_meta(const std::string& path) {
     fail(path, "field \"factor_depth\" is " + num(k.depth_scale) + " (expected > 0)");
   check_intrinsics(path, k);
   return k;
+}
+
+std::vector<std::uint8_t> read_label_image(const std::string& path, int width, int height) {
+  const cv::Mat m = read_image(path);
+  if (m.type() != CV_8UC1 || m.cols != width || m.rows != height)
+    fail(path, "label image is " + mat_kind(m) + " " + size_str(m) +
+                   " (expected 8-bit one-channel " + std::to_string(width) + "x" +
+                   std::to_string(height) + ", the size of the frame)");
+  std::vector<std::uint8_t> labels(static_cast<std::size_t>(width) * height);
+  for (int r = 0; r < height; ++r)
+    std::memcpy(labels.data() + static_cast<std::size_t>(r) * width, m.ptr<std::uint8_t>(r), width);
+  return labels;
 }
 
 Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k) {

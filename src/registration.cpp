@@ -512,14 +512,17 @@ double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d
   const double spacing = std::max(view.spacing, candidate.spacing);
   if (!(range > 0) || !(spacing > 0)) return 0;
   const double cell = 3 * spacing / range;  // radians
-  std::unordered_map<std::int64_t, double> zbuf;
-  std::vector<std::int64_t> key(view.size());
+  std::unordered_map<std::uint64_t, double> zbuf;
+  std::vector<std::uint64_t> key(view.size());
   std::vector<double> depth(view.size());
   for (std::size_t j = 0; j < view.size(); ++j) {
     depth[j] = q[j].norm();
     const double az = std::atan2(q[j].x(), q[j].z()), el = std::asin(q[j].y() / depth[j]);
-    key[j] = (static_cast<std::int64_t>(std::floor(az / cell)) << 32) ^
-             static_cast<std::int64_t>(std::floor(el / cell) + (1 << 30));
+    // Cell indices may be negative: shift their two's-complement bits as unsigned (a left shift
+    // of a negative signed value is undefined behaviour, found by UBSan).
+    key[j] =
+        (static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(az / cell))) << 32) ^
+        static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(el / cell)) + (1 << 30));
     auto [it, fresh] = zbuf.emplace(key[j], depth[j]);
     if (!fresh) it->second = std::min(it->second, depth[j]);
   }

@@ -298,37 +298,44 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
 // The reduced run of the paper's recognition experiments (issue: `make test` asserts floors):
 // 96 test views and 96 occluded ones against a 64-view LINEMOD database, proxseg only.
 TEST(Cli, BenchRecReducedRunMeetsTheFloors) {
+  // 96 clean + 96 occluded test views; 36 + 36 under ASan + UBSan (make test-sanitize), which
+  // are the first 36 of the same seeded sets.
+#ifdef PROXSEG_SANITIZE
+  const int n = 36;
+#else
+  const int n = 96;
+#endif
+  const std::string tests = std::to_string(n);
   const fs::path o = kTmp / "bench-rec";
   fs::remove_all(o);
-  const CliRun r = run("bench-rec --models " + kData +
-                       "/lmo/models --tests 96 --occluded-tests 96 "
-                       "--no-sweep --peers none --seed 1 --json -o " +
-                       o.string());
+  const CliRun r =
+      run("bench-rec --models " + kData + "/lmo/models --tests " + tests + " --occluded-tests " +
+          tests + " --no-sweep --peers none --seed 1 --json -o " + o.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json s = nlohmann::json::parse(r.out);
   EXPECT_EQ(s, nlohmann::json::parse(slurp(o / "summary.json")));
   ASSERT_EQ(s["methods"].size(), 1u);
   const nlohmann::json& sets = s["methods"][0]["sets"];
   const nlohmann::json& clean = sets["clean"];
-  EXPECT_EQ(clean["tests"], 96);
+  EXPECT_EQ(clean["tests"], n);
   EXPECT_GE(clean["tp_rate"].get<double>(), 0.95) << clean;
   EXPECT_LE(clean["fp_rate"].get<double>(), 0.05) << clean;
   EXPECT_GE(clean["pose_rate"].get<double>(), 0.85) << clean;
-  EXPECT_EQ(sets["occluded"]["tests"], 96);
-  // Up to 40 % occlusion (48 tests): the issue's target is 85 % at 30-40 %.
-  double right = 0, tests = 0;
+  EXPECT_EQ(sets["occluded"]["tests"], n);
+  // Up to 40 % occlusion (half the occluded tests): the issue's target is 85 % at 30-40 %.
+  double right = 0, in_bins = 0;
   for (const char* bin : {"10-20", "20-30", "30-40"}) {
-    EXPECT_EQ(sets[bin]["tests"], 16) << bin;
+    EXPECT_EQ(sets[bin]["tests"], n / 6) << bin;
     right += sets[bin]["tp_rate"].get<double>() * sets[bin]["tests"].get<double>();
-    tests += sets[bin]["tests"].get<double>();
+    in_bins += sets[bin]["tests"].get<double>();
   }
-  EXPECT_GE(right / tests, 0.85) << sets;
-  EXPECT_EQ(s["parameters"]["test_set"]["tests"], 96);
+  EXPECT_GE(right / in_bins, 0.85) << sets;
+  EXPECT_EQ(s["parameters"]["test_set"]["tests"], n);
   EXPECT_EQ(s["parameters"]["recognition"]["min_score"], 0.5);
   // The other outputs: one CSV line per answer, the curves, the report.
   const std::string csv = slurp(o / "tests.csv");
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 96 + 96);
-  EXPECT_NE(slurp(o / "curves.csv").find("\"proxseg\",clean,96,"), std::string::npos);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * n);
+  EXPECT_NE(slurp(o / "curves.csv").find("\"proxseg\",clean," + tests + ","), std::string::npos);
   const std::string md = slurp(o / "summary.md");
   EXPECT_NE(md.find("### Table 2 analogue"), std::string::npos);
   EXPECT_NE(md.find("### Table 3 analogue"), std::string::npos);

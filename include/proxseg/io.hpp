@@ -36,6 +36,10 @@ Intrinsics read_ycb_meta(const std::string& path);
 // 8-bit colour PNG/JPG + 16-bit depth PNG of the same size -> organized frame; depth 0 = invalid.
 Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k);
 
+// An 8-bit one-channel label image (PNG) of exactly width x height pixels, row-major values
+// (YCB-Video -label.png). InputError naming the file otherwise.
+std::vector<std::uint8_t> read_label_image(const std::string& path, int width, int height);
+
 // One extra per-point unsigned field written after x y z rgb (e.g. "label", "instance").
 struct PointField {
   std::string name;
