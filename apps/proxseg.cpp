@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <set>
 #include "cli.hpp"
 
 namespace cli {
@@ -230,10 +231,15 @@ int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& par
   const auto files = proxseg::scene_files(o.batch, {".pcd", ".ply"});
   const std::filesystem::path out(o.output);
   make_parent((out / "summary.json").string());
-  for (const auto& f : files)
+  std::set<std::string> stems;
+  for (const auto& f : files) {
     if (std::filesystem::equivalent(f.parent_path(), out))
       throw CLI::ValidationError("--output must not be the input folder (it would overwrite " +
                                  f.filename().string() + ")");
+    if (!stems.insert(f.stem().string()).second)
+      throw InputError(o.batch + ": two scenes named " + f.stem().string() +
+                       " (expected one file per name: their outputs would overwrite each other)");
+  }
   catch_interrupts();
   nlohmann::json scenes = nlohmann::json::array();
   Progress progress(files.size());
@@ -253,11 +259,13 @@ int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& par
                                   {"scenes", scenes},
                                   {"parameters", proxseg::to_json(params)}};
   proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
-  if (o.json) std::cout << summary.dump(2) << "\n";
-  std::cout << (out / "summary.json").string() << ": " << scenes.size() - failed << " of "
-            << files.size() << " scenes segmented"
-            << (failed ? ", " + std::to_string(failed) + " failed" : "")
-            << (interrupted() ? " (interrupted)" : "") << "\n";
+  if (o.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << (out / "summary.json").string() << ": " << scenes.size() - failed << " of "
+              << files.size() << " scenes segmented"
+              << (failed ? ", " + std::to_string(failed) + " failed" : "")
+              << (interrupted() ? " (interrupted)" : "") << "\n";
   for (const auto& row : scenes)
     if (row.contains("error"))
       std::cerr << "proxseg: error: " << row["error"].get<std::string>() << "\n";

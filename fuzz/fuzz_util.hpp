@@ -21,21 +21,27 @@ namespace fuzz {
 // Separates the files packed into one input (multi-file harnesses; make_seeds writes them).
 inline constexpr std::string_view kPart = "\n@@proxseg-fuzz-part@@\n";
 
-// A scratch directory of this process (tmpfs when there is one: the readers take paths).
+// A scratch directory of this process (tmpfs when there is one: the readers take paths), removed
+// at exit.
+inline std::filesystem::path make_scratch() {
+  const std::filesystem::path base = std::filesystem::is_directory("/dev/shm")
+                                         ? "/dev/shm"
+                                         : std::filesystem::temp_directory_path();
+  auto d = base / ("proxseg-fuzz-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(d);
+  return d;
+}
+inline void remove_scratch();
 inline const std::filesystem::path& scratch() {
-  static const std::filesystem::path dir = [] {
-    const std::filesystem::path base = std::filesystem::is_directory("/dev/shm")
-                                           ? "/dev/shm"
-                                           : std::filesystem::temp_directory_path();
-    auto d = base / ("proxseg-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    std::atexit([] {
-      std::error_code ec;
-      std::filesystem::remove_all(scratch(), ec);
-    });
-    return d;
-  }();
+  static const std::filesystem::path dir = make_scratch();
+  // Registered after dir is constructed, so that it runs before dir is destroyed (registering it
+  // inside dir's initialiser made it run after: a use after free at exit, found by ASan).
+  [[maybe_unused]] static const bool cleanup = (std::atexit(remove_scratch), true);
   return dir;
+}
+inline void remove_scratch() {
+  std::error_code ec;
+  std::filesystem::remove_all(scratch(), ec);
 }
 
 inline std::string write(const std::string& name, std::string_view bytes) {
