@@ -127,13 +127,12 @@ int main(int argc, char** argv) {
           "set after each frame of a batch (`segment --batch`, its `summary.json`). "
        << "`make bench` fails if the batch grows by more than " << fixed(100 * max_growth)
        << " % from frame 10 to frame " << frames << ".\n\n"
-       << "| run | peak RSS (MiB) | wall time (s) |\n|---|---:|---:|\n"
-       << "| `segment` one 640x480 frame (mOSD learn0) | " << fixed(segment.peak_mib) << " | "
-       << fixed(segment.seconds, 1) << " |\n"
+       << "| run | peak RSS (MiB) |\n|---|---:|\n"
+       << "| `segment` one 640x480 frame (mOSD learn0) | " << fixed(segment.peak_mib) << " |\n"
        << "| `recognize` learn0 against 64 views (8 LINEMOD objects x 8) | "
-       << fixed(recognize.peak_mib) << " | " << fixed(recognize.seconds, 1) << " |\n"
+       << fixed(recognize.peak_mib) << " |\n"
        << "| `segment --batch` " << frames << " frames (mOSD learn, cycled) | "
-       << fixed(batch.peak_mib) << " | " << fixed(batch.seconds, 1) << " |\n\n"
+       << fixed(batch.peak_mib) << " |\n\n"
        << "Resident set during the batch (MiB): after frame 1 " << fixed(rss.front())
        << ", frame 10 " << fixed(at10) << ", frame " << frames / 2 << " "
        << fixed(rss[frames / 2 - 1]) << ", frame " << frames << " " << fixed(last) << ", highest "
