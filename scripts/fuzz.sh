@@ -46,3 +46,5 @@ run() {
 export -f run
 export FUZZ_BUILD FUZZ_TIME
 printf '%s\n' "${harnesses[@]}" | xargs -P "$FUZZ_JOBS" -I{} bash -c 'run {}'
+# Fork-mode children that were stopped leave their scratch directories behind.
+rm -rf /dev/shm/proxseg-fuzz-* 2>/dev/null || true
