@@ -298,10 +298,10 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
 // The reduced run of the paper's recognition experiments (issue: `make test` asserts floors):
 // 96 test views and 96 occluded ones against a 64-view LINEMOD database, proxseg only.
 TEST(Cli, BenchRecReducedRunMeetsTheFloors) {
-  // 96 clean + 96 occluded test views; 36 + 36 under ASan + UBSan (make test-sanitize), which
-  // are the first 36 of the same seeded sets.
+  // 96 clean + 96 occluded test views; 24 + 24 under ASan + UBSan (make test-sanitize), which
+  // are the first 24 of the same seeded sets.
 #ifdef PROXSEG_SANITIZE
-  const int n = 36;
+  const int n = 24;
 #else
   const int n = 96;
 #endif
