@@ -50,7 +50,6 @@ test-sanitize: deps
 	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
 	@cmake --build $(SAN_BUILD) -j $(JOBS)
 	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
-	  LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp):print_suppressions=0 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
 
 # libFuzzer on every reader (clang-14): FUZZ_TIME seconds per harness, FUZZ_JOBS at once.

@@ -224,10 +224,6 @@ nlohmann::json segment_one(const std::filesystem::path& file, const std::string&
 // `segment --batch DIR -o OUT`: OUT/<scene>.{pcd,png,json} per scene and OUT/summary.json. A scene
 // that cannot be read is reported and skipped; an interrupt stops between scenes.
 int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& params) {
-  if (!o.input.empty() || !o.color.empty() || !o.depth.empty())
-    throw CLI::ValidationError("--batch takes a folder instead of INPUT or --color/--depth");
-  if (!o.candidates_dir.empty())
-    throw CLI::ValidationError("--candidates-dir goes without --batch");
   const auto files = proxseg::scene_files(o.batch, {".pcd", ".ply"});
   const std::filesystem::path out(o.output);
   make_parent((out / "summary.json").string());
@@ -274,15 +270,18 @@ int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& par
 }
 
 int run_segment(const SegmentCommand& o) {
-  if (!o.batch.empty()) {
-    proxseg::SegmentParams base = proxseg::preset(o.preset);
-    if (!o.config.empty()) base = proxseg::read_params(o.config, base);
-    return run_segment_batch(o, segment_params(o, base));
+  if (o.batch.empty()) {
+    check_scene_options(o, {o.output + ".pcd", o.output + ".png", o.output + ".json"});
+  } else {
+    if (!o.input.empty() || !o.color.empty() || !o.depth.empty())
+      throw CLI::ValidationError("--batch takes a folder instead of INPUT or --color/--depth");
+    if (!o.candidates_dir.empty())
+      throw CLI::ValidationError("--candidates-dir goes without --batch");
   }
-  check_scene_options(o, {o.output + ".pcd", o.output + ".png", o.output + ".json"});
   proxseg::SegmentParams base = proxseg::preset(o.preset);
   if (!o.config.empty()) base = proxseg::read_params(o.config, base);
   const proxseg::SegmentParams params = segment_params(o, base);
+  if (!o.batch.empty()) return run_segment_batch(o, params);
   make_parent(o.output);  // before the work: an unwritable output fails at once
   const proxseg::Frame frame = read_input(o);
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
