@@ -5,7 +5,8 @@
 #   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
-#   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn
+#   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
+#                   generated clutter set (60 scenes in $(BUILD)/clutter, made when missing)
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
 #                   Open3D and PCL peers
@@ -65,10 +66,12 @@ deps-bench:
 bench: bench-seg bench-rec bench-mem
 
 bench-seg: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench
+	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
 	@mkdir -p $(BUILD)/bench-out
-	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --out $(BUILD)/bench-out/segmentation.md \
-	  --csv $(BUILD)/bench-out/segmentation.csv
+	@if [ "$$(find $(BUILD)/clutter -maxdepth 1 -name '*.pcd' 2>/dev/null | wc -l)" -lt 60 ]; then \
+	  $(BUILD)/proxseg synth --clutter --count 60 -o $(BUILD)/clutter; fi
+	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --clutter $(BUILD)/clutter \
+	  --out $(BUILD)/bench-out/segmentation.md --csv $(BUILD)/bench-out/segmentation.csv
 	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
 	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
 

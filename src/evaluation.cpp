@@ -21,6 +21,7 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 namespace proxseg {
 namespace {
@@ -79,6 +80,7 @@ std::string scene_category(const std::string& scene_name) {
   static const std::regex learn(R"(^learn(\d+)(\.\w+)?$)");
   std::smatch m;
   const std::string name = std::filesystem::path(scene_name).filename().string();
+  if (name.rfind("clutter", 0) == 0) return "clutter";
   if (!std::regex_match(name, m, learn)) return "other";
   const int i = std::stoi(m[1]);
   return i <= 16   ? "boxes"
@@ -86,6 +88,21 @@ std::string scene_category(const std::string& scene_name) {
          : i <= 32 ? "occluded"
          : i <= 44 ? "cylindric"
                    : "other";
+}
+
+long scene_number(const std::string& scene_name) {
+  const std::string stem = std::filesystem::path(scene_name).stem().string();
+  std::size_t i = stem.size();
+  while (i > 0 && std::isdigit(static_cast<unsigned char>(stem[i - 1]))) --i;
+  if (i == stem.size()) return -1;
+  return std::stol(stem.substr(i, 18));  // at most 18 digits: no overflow
+}
+
+std::string scene_fold(const std::string& scene_name) {
+  const std::string category = scene_category(scene_name);
+  if (category != "clutter") return category;
+  const long n = scene_number(scene_name);
+  return n >= 0 && n % 2 == 1 ? "clutter-odd" : "clutter-even";
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& dir,
@@ -124,8 +141,8 @@ std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
   for (const auto& s : scenes)
     if (std::find(methods.begin(), methods.end(), s.method) == methods.end())
       methods.push_back(s.method);
-  const std::vector<std::string> categories = {"boxes",     "stacked", "occluded",
-                                               "cylindric", "other",   "all"};
+  const std::vector<std::string> categories = {"boxes",   "stacked", "occluded", "cylindric",
+                                               "clutter", "other",   "all"};
   std::vector<SummaryRow> rows;
   for (const auto& method : methods)
     for (const auto& category : categories) {
@@ -136,6 +153,7 @@ std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
         if (s.method == method && (category == "all" || s.category == category)) ++r.scenes;
       if (r.scenes == 0) continue;
       const double w = 1.0 / r.scenes;
+      long lost = 0, objects = 0, lost_parts = 0, objects_parts = 0;
       for (const auto& s : scenes) {
         if (s.method != method || (category != "all" && s.category != category)) continue;
         r.seconds += w * s.seconds;
@@ -144,7 +162,20 @@ std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
         r.over_segmented += w * s.objects.over_segmented;
         r.under_segmented += w * s.objects.under_segmented;
         r.truth_objects += w * s.objects.truth_objects;
+        r.lost_in_background += w * s.objects.lost_in_background;
+        r.unassigned_objects += w * s.objects.unassigned_objects;
+        lost += s.objects.lost_in_background;
+        objects += s.objects.truth_objects;
+        lost_parts += s.parts.lost_in_background;
+        objects_parts += s.parts.truth_objects;
       }
+      // Pooled over the scenes, not a mean of ratios: a scene with one object does not weigh as
+      // much as one with ten.
+      r.objects.lost_in_background_share =
+          objects ? static_cast<double>(lost) / static_cast<double>(objects) : 0.0;
+      r.parts.lost_in_background_share =
+          objects_parts ? static_cast<double>(lost_parts) / static_cast<double>(objects_parts)
+                        : 0.0;
       rows.push_back(r);
     }
   return rows;
@@ -166,7 +197,10 @@ nlohmann::json scores_json(const SegmentationScores& s) {
           {"object_f", s.object_f},
           {"detected_075", s.detected_075},
           {"over_segmented", s.over_segmented},
-          {"under_segmented", s.under_segmented}};
+          {"under_segmented", s.under_segmented},
+          {"lost_in_background", s.lost_in_background},
+          {"unassigned_objects", s.unassigned_objects},
+          {"lost_in_background_share", s.lost_in_background_share}};
 }
 
 std::string scenes_csv(const std::vector<SceneScores>& scenes) {
@@ -176,7 +210,8 @@ std::string scenes_csv(const std::vector<SceneScores>& scenes) {
     for (const char* m :
          {"paper_precision", "paper_recall", "homogeneity", "completeness", "v_measure",
           "weighted_overlap", "object_precision", "object_recall", "object_f", "detected_075",
-          "over_segmented", "under_segmented", "truth_objects", "segments"})
+          "over_segmented", "under_segmented", "truth_objects", "segments", "lost_in_background",
+          "unassigned_objects", "lost_in_background_share"})
       out << "," << scheme << "_" << m;
   out << "\n";
   for (const auto& s : scenes) {
@@ -187,7 +222,8 @@ std::string scenes_csv(const std::vector<SceneScores>& scenes) {
           << "," << fmt(x->weighted_overlap, 4) << "," << fmt(x->object_precision, 4) << ","
           << fmt(x->object_recall, 4) << "," << fmt(x->object_f, 4) << ","
           << fmt(x->detected_075, 4) << "," << x->over_segmented << "," << x->under_segmented << ","
-          << x->truth_objects << "," << x->segments;
+          << x->truth_objects << "," << x->segments << "," << x->lost_in_background << ","
+          << x->unassigned_objects << "," << fmt(x->lost_in_background_share, 4);
     out << "\n";
   }
   return out.str();
@@ -196,8 +232,8 @@ std::string scenes_csv(const std::vector<SceneScores>& scenes) {
 std::string summary_markdown(const std::vector<SummaryRow>& rows) {
   std::ostringstream out;
   out << "| method | category | scenes | object F | object P | object R | F>=0.75 | V | WOv | "
-         "paper P | paper R | over | under | parts F | parts V | s/frame |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "paper P | paper R | over | under | lost bg | parts F | parts V | s/frame |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     out << "| " << r.method << " | " << r.category << " | " << r.scenes << " | "
         << fmt(r.objects.object_f) << " | " << fmt(r.objects.object_precision) << " | "
@@ -205,7 +241,8 @@ std::string summary_markdown(const std::vector<SummaryRow>& rows) {
         << fmt(r.objects.v.v) << " | " << fmt(r.objects.weighted_overlap) << " | "
         << fmt(r.objects.paper_precision) << " | " << fmt(r.objects.paper_recall) << " | "
         << fmt(r.over_segmented, 2) << " | " << fmt(r.under_segmented, 2) << " | "
-        << fmt(r.parts.object_f) << " | " << fmt(r.parts.v.v) << " | " << fmt(r.seconds) << " |\n";
+        << fmt(r.objects.lost_in_background_share) << " | " << fmt(r.parts.object_f) << " | "
+        << fmt(r.parts.v.v) << " | " << fmt(r.seconds) << " |\n";
   return out.str();
 }
 
@@ -217,6 +254,8 @@ nlohmann::json summary_json(const std::vector<SummaryRow>& rows) {
     objects["over_segmented"] = r.over_segmented;
     objects["under_segmented"] = r.under_segmented;
     objects["truth_objects"] = r.truth_objects;
+    objects["lost_in_background"] = r.lost_in_background;
+    objects["unassigned_objects"] = r.unassigned_objects;
     for (nlohmann::json* x : {&objects, &parts}) {
       x->erase("points");
       x->erase("truth_regions");
@@ -225,6 +264,8 @@ nlohmann::json summary_json(const std::vector<SummaryRow>& rows) {
     parts.erase("over_segmented");
     parts.erase("under_segmented");
     parts.erase("truth_objects");
+    parts.erase("lost_in_background");
+    parts.erase("unassigned_objects");
     j.push_back({{"method", r.method},
                  {"category", r.category},
                  {"scenes", r.scenes},
@@ -233,6 +274,79 @@ nlohmann::json summary_json(const std::vector<SummaryRow>& rows) {
                  {"parts", parts}});
   }
   return j;
+}
+
+CrossValidation cross_validate(const std::vector<std::vector<double>>& scores,
+                               const std::vector<std::string>& fold_of_scene) {
+  const std::size_t n = scores.size();
+  if (n == 0 || scores[0].empty())
+    throw std::invalid_argument("cross_validate: no scenes or no variants");
+  const std::size_t v = scores[0].size();
+  for (const auto& row : scores)
+    if (row.size() != v) throw std::invalid_argument("cross_validate: rows of different sizes");
+  if (fold_of_scene.size() != n)
+    throw std::invalid_argument("cross_validate: one fold per scene expected");
+  CrossValidation cv;
+  std::vector<int> fold(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it = std::find(cv.folds.begin(), cv.folds.end(), fold_of_scene[i]);
+    fold[i] = static_cast<int>(it - cv.folds.begin());
+    if (it == cv.folds.end()) cv.folds.push_back(fold_of_scene[i]);
+  }
+  const std::size_t nf = cv.folds.size();
+  if (nf < 2) throw std::invalid_argument("cross_validate: fewer than two folds");
+  // Sums per fold and variant and over all scenes, in scene order.
+  std::vector<std::vector<double>> fold_sum(nf, std::vector<double>(v, 0.0));
+  std::vector<double> total(v, 0.0);
+  cv.fold_scenes.assign(nf, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    ++cv.fold_scenes[fold[i]];
+    for (std::size_t k = 0; k < v; ++k) {
+      fold_sum[fold[i]][k] += scores[i][k];
+      total[k] += scores[i][k];
+    }
+  }
+  // The best of a list of means; strict > leaves ties to the first variant.
+  const auto best_of = [v](const std::vector<double>& means) {
+    int best = 0;
+    for (std::size_t k = 1; k < v; ++k)
+      if (means[k] > means[best]) best = static_cast<int>(k);
+    return best;
+  };
+  cv.variant_means.resize(v);
+  for (std::size_t k = 0; k < v; ++k) cv.variant_means[k] = total[k] / static_cast<double>(n);
+  cv.best_in_sample = best_of(cv.variant_means);
+  cv.in_sample = cv.variant_means[cv.best_in_sample];
+  cv.fold_means.assign(nf, std::vector<double>(v, 0.0));
+  cv.chosen.resize(nf);
+  cv.training.resize(nf);
+  cv.held_out.resize(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const double inside = cv.fold_scenes[f], outside = static_cast<double>(n) - inside;
+    std::vector<double> training(v);
+    for (std::size_t k = 0; k < v; ++k) {
+      cv.fold_means[f][k] = fold_sum[f][k] / inside;
+      // The training mean summed afresh over the other scenes, not total - fold (no rounding
+      // difference between two variants with the same scores outside the fold).
+      double sum = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        if (fold[i] != static_cast<int>(f)) sum += scores[i][k];
+      training[k] = sum / outside;
+    }
+    cv.chosen[f] = best_of(training);
+    cv.training[f] = training[cv.chosen[f]];
+    cv.held_out[f] = cv.fold_means[f][cv.chosen[f]];
+  }
+  cv.scene_variant.resize(n);
+  cv.scene_score.resize(n);
+  double sum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    cv.scene_variant[i] = cv.chosen[fold[i]];
+    cv.scene_score[i] = scores[i][cv.scene_variant[i]];
+    sum += cv.scene_score[i];
+  }
+  cv.overall = sum / static_cast<double>(n);
+  return cv;
 }
 
 std::vector<std::string> read_lines(const std::string& path) {

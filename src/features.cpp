@@ -432,7 +432,8 @@ void normals_row(const Frame& frame, const float* mask, const Eigen::Vector3f* s
   for (int u = 0; u < w; ++u) {
     Eigen::Vector3f c, l, r, t, b;
     if (!at(u, v, c)) continue;
-    const float jump = 0.05f * c.z();  // beyond this depth step a neighbour is another surface
+    // Beyond this depth step a neighbour is another surface (|z|: some clouds look down -z).
+    const float jump = 0.05f * std::abs(c.z());
     auto usable = [&](bool ok, const Eigen::Vector3f& p) {
       return ok && std::abs(p.z() - c.z()) < jump;
     };

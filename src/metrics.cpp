@@ -285,7 +285,13 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
     s.paper_recall = recall / nt;
   }
 
-  // Per truth object: best IoU, over- and under-segmentation. The cells of one t are contiguous.
+  // Background segments: more than half of their points on the background (exactly half is not).
+  std::vector<char> background_segment(np, 0);
+  for (int p = first_segment; p < np; ++p)
+    background_segment[p] = 2 * on_background[p] > c.predicted_size[p];
+
+  // Per truth object: best IoU, over- and under-segmentation, lost in the background. The cells of
+  // one t are contiguous.
   std::size_t object_points = 0;
   double overlap = 0;
   for (std::size_t begin = 0, end = 0; begin < c.cells.size(); begin = end) {
@@ -316,16 +322,21 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
       // The largest count of that segment on a region other than t.
       const std::size_t other = majority[largest] == t ? runner_up_n[largest] : majority_n[largest];
       if (10 * other >= c.predicted_size[largest]) ++s.under_segmented;
+      if (background_segment[largest]) ++s.lost_in_background;
+    } else {
+      ++s.unassigned_objects;
     }
   }
   s.weighted_overlap = object_points ? overlap / static_cast<double>(object_points) : 0.0;
+  s.lost_in_background_share =
+      s.truth_objects ? static_cast<double>(s.lost_in_background) / s.truth_objects : 0.0;
 
   // Object overlap P/R/F (UOIS). Segments with more than half of their points on the background
   // are left out: they are the table, not a (bad) object.
   std::vector<char> kept(np, 0);
   std::size_t kept_points = 0;
   for (int p = first_segment; p < np; ++p) {
-    kept[p] = 2 * on_background[p] <= c.predicted_size[p];
+    kept[p] = !background_segment[p];
     if (kept[p]) kept_points += c.predicted_size[p];
   }
   // Only objects and kept segments that meet enter the matching: any other pair has F = 0, so

@@ -12,6 +12,9 @@ namespace proxseg {
 void to_json(nlohmann::json& j, MrfMethod m) {
   j = m == MrfMethod::kSwap ? "swap" : "expansion";
 }
+void to_json(nlohmann::json& j, SelectionParams::Geometry g) {
+  j = g == SelectionParams::Geometry::kImage ? "image" : "voxels";
+}
 void to_json(nlohmann::json& j, MultiRadius m) {
   j = m == MultiRadius::kConcatenate ? "concatenate" : "best_of";
 }
@@ -65,6 +68,20 @@ void fields(P& p, F&& f) {
   f("selection", "background_min_area", p.selection.background_min_area);
   f("selection", "background_plane_distance", p.selection.background_plane_distance);
   f("selection", "background_inlier_ratio", p.selection.background_inlier_ratio);
+  f("selection", "geometry", p.selection.geometry);
+  f("selection", "image_normal_step", p.selection.image_normal_step);
+  f("selection", "depth_step_ratio", p.selection.depth_step_ratio);
+  f("selection", "concavity_step", p.selection.concavity_step);
+  f("selection", "crease_tolerance_deg", p.selection.crease_tolerance_deg);
+  f("selection", "sensor_noise_at_1m", p.selection.sensor_noise_at_1m);
+  f("selection", "plane_band_sigmas", p.selection.plane_band_sigmas);
+  f("selection", "plane_band_min", p.selection.plane_band_min);
+  f("selection", "merge_window", p.selection.merge_window);
+  f("selection", "merge_min_links", p.selection.merge_min_links);
+  f("selection", "bridge_window", p.selection.bridge_window);
+  f("selection", "bridge_tolerance", p.selection.bridge_tolerance);
+  f("selection", "merge_min_agreement", p.selection.merge_min_agreement);
+  f("selection", "island_missing_share", p.selection.island_missing_share);
   f("", "threads", p.threads);
 }
 
@@ -134,6 +151,14 @@ void read_value(const std::string& name, const json& v, Score& out) {
     out = Score::kSymmetric;
   else
     wrong_type(name, "\"fitness\" or \"symmetric\"", v);
+}
+void read_value(const std::string& name, const json& v, SelectionParams::Geometry& out) {
+  if (v == "image")
+    out = SelectionParams::Geometry::kImage;
+  else if (v == "voxels")
+    out = SelectionParams::Geometry::kVoxels;
+  else
+    wrong_type(name, "\"image\" or \"voxels\"", v);
 }
 void read_value(const std::string& name, const json& v, MrfMethod& out) {
   if (v == "swap")
@@ -258,6 +283,7 @@ SegmentParams preset(const std::string& name) {
     p.selection.merge_convex = false;
     p.selection.cut_support_plane = false;
     p.selection.absorb_small = false;
+    p.selection.geometry = SelectionParams::Geometry::kVoxels;
     return p;
   }
   throw InputError("preset: expected \"default\" or \"paper\", got \"" + name + "\"");
@@ -320,6 +346,31 @@ void validate(const SegmentParams& p) {
           "selection.background_plane_distance", ">= 0 metres");
   require(sp.background_inlier_ratio >= 0 && sp.background_inlier_ratio <= 1,
           "selection.background_inlier_ratio", "in [0, 1]");
+  require(sp.image_normal_step >= 1 && sp.image_normal_step <= 64, "selection.image_normal_step",
+          "1..64 pixels");
+  require(finite(sp.depth_step_ratio) && sp.depth_step_ratio > 0, "selection.depth_step_ratio",
+          "a positive share of the depth");
+  require(finite(sp.crease_tolerance_deg) && sp.crease_tolerance_deg >= 0 &&
+              sp.crease_tolerance_deg <= 180,
+          "selection.crease_tolerance_deg", "0..180 degrees");
+  require(sp.concavity_step >= 1 && sp.concavity_step <= 64, "selection.concavity_step",
+          "1..64 pixels");
+  require(finite(sp.sensor_noise_at_1m) && sp.sensor_noise_at_1m >= 0,
+          "selection.sensor_noise_at_1m", ">= 0 metres");
+  require(finite(sp.plane_band_sigmas) && sp.plane_band_sigmas >= 0, "selection.plane_band_sigmas",
+          ">= 0");
+  require(finite(sp.plane_band_min) && sp.plane_band_min >= 0, "selection.plane_band_min",
+          ">= 0 metres");
+  require(sp.merge_window >= 1 && sp.merge_window <= 32, "selection.merge_window", "1..32 pixels");
+  require(sp.merge_min_links >= 1, "selection.merge_min_links", ">= 1");
+  require(sp.bridge_window >= 0 && sp.bridge_window <= 64, "selection.bridge_window",
+          "0..64 pixels");
+  require(finite(sp.bridge_tolerance) && sp.bridge_tolerance >= 0, "selection.bridge_tolerance",
+          ">= 0 metres");
+  require(sp.merge_min_agreement >= 0 && sp.merge_min_agreement <= 1,
+          "selection.merge_min_agreement", "in [0, 1]");
+  require(sp.island_missing_share >= 0 && sp.island_missing_share <= 1,
+          "selection.island_missing_share", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }
 

@@ -117,7 +117,10 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.times_ms.emplace_back("point_labels", watch.lap());
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size.
-  r.selection = select_candidates(frame, r.voxels, r.point_labels, params.selection);
+  r.selection =
+      params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized()
+          ? select_candidates_on_grid(frame, r.point_labels, params.selection, params.threads)
+          : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
   return r;
 }

@@ -3,6 +3,8 @@
 // become candidates, large supporting planes background.
 #include <proxseg/selection.hpp>
 
+#include "selection_detail.hpp"
+
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include <Eigen/Eigenvalues>
@@ -395,6 +397,9 @@ std::vector<int> euclidean_components(const Frame& frame, const std::vector<int>
   return component;
 }
 
+
+}  // namespace
+
 bool is_background(const Frame& frame, const Candidate& c, const SelectionParams& params) {
   const Eigen::Vector3d& e = c.box.extent;
   if (e[0] * e[1] < params.background_min_area) return false;
@@ -405,8 +410,6 @@ bool is_background(const Frame& frame, const Candidate& c, const SelectionParams
                params.background_plane_distance;
   return inliers >= params.background_inlier_ratio * c.points.size();
 }
-
-}  // namespace
 
 OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points) {
   OrientedBox box;

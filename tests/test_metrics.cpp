@@ -62,6 +62,10 @@ void expect_scores(const SegmentationScores& got, const SegmentationScores& want
   EXPECT_NEAR(got.detected_075, want.detected_075, kTol) << "detected_075";
   EXPECT_EQ(got.over_segmented, want.over_segmented);
   EXPECT_EQ(got.under_segmented, want.under_segmented);
+  EXPECT_EQ(got.lost_in_background, want.lost_in_background);
+  EXPECT_EQ(got.unassigned_objects, want.unassigned_objects);
+  EXPECT_NEAR(got.lost_in_background_share, want.lost_in_background_share, kTol)
+      << "lost_in_background_share";
 }
 
 SegmentationScores counts(std::size_t points, int regions, int objects, int segments) {
@@ -241,6 +245,8 @@ TEST(Metrics, PredictedZeroIsUnassigned) {
   //   R = 3/(4 + 2) = 0.5, F = 2/3. Detected: object 2 (6/7), not 3 -> 0.5.
   // Over: 0 (object 2: only 6; 0 is no segment). Under: object 2's largest is 6, pure; object 3
   //   has no segment -> 0.
+  // Lost: object 2's majority segment 6 is pure object -> not lost; object 3 is all predicted 0:
+  //   no majority segment -> unassigned 1, lost 0.
   const Labels truth = {1, 1, 1, 1, 2, 2, 2, 2, 3, 3};
   const Labels pred = {5, 5, 5, 0, 6, 6, 6, 0, 0, 0};
   SegmentationScores want = counts(10, 3, 2, 2);
@@ -254,6 +260,7 @@ TEST(Metrics, PredictedZeroIsUnassigned) {
   want.object_recall = 0.5;
   want.object_f = 2.0 / 3;
   want.detected_075 = 0.5;
+  want.unassigned_objects = 1;
   expect_scores(score(truth, pred), want);
 }
 
@@ -390,6 +397,99 @@ TEST(Metrics, ThresholdsAreInclusive) {
   }
 }
 
+TEST(Metrics, ObjectSwallowedByTheTableSegment) {
+  // truth: background 1 (6 points), object 2 (3), object 3 (3). Segment 5 = the whole table and
+  // object 2 (the table segment swallows it); segment 6 = object 3.
+  // Paper: 5 -> 1 (6 vs 3): P = 6/9, R = 1; 6 -> 3: P = R = 1; region 2: no label, 0, 0.
+  //   P = (2/3 + 1) / 3 = 5/9, R = 2/3.
+  // V: H(C|K) = (9/12) H(6/9, 3/9) (cluster 5), H(C) = H(.5, .25, .25) -> h = 1 - H(C|K)/H(C);
+  //   every class in one cluster -> H(K|C) = 0, c = 1.
+  // Weighted overlap: IoU(2, 5) = 3/9, IoU(3, 6) = 1 -> (3 * 1/3 + 3 * 1) / 6 = 2/3.
+  // Object: 5 has 6/9 on the background: left out; kept 6 (3). F(3,6) = 1. P = 3/3, R = 3/6,
+  //   F = 2/3; detected: 3 yes, 2 no -> 0.5.
+  // Over: 0. Under: 2's largest is 5, 6/9 on the background -> 1; 3's is 6, pure.
+  // Lost: object 2's majority segment 5 has more than half of its points on the table -> lost 1,
+  //   share 1/2; object 3 not; unassigned 0.
+  const Labels truth = {1, 1, 1, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  const Labels pred = {5, 5, 5, 5, 5, 5, 5, 5, 5, 6, 6, 6};
+  SegmentationScores want = counts(12, 3, 2, 2);
+  want.paper_precision = 5.0 / 9;
+  want.paper_recall = 2.0 / 3;
+  const double h = 1 - 0.75 * H({6.0 / 9, 3.0 / 9}) / H({0.5, 0.25, 0.25});
+  want.v = vm(h, 1);
+  want.weighted_overlap = 2.0 / 3;
+  want.object_precision = 1;
+  want.object_recall = 0.5;
+  want.object_f = 2.0 / 3;
+  want.detected_075 = 0.5;
+  want.under_segmented = 1;
+  want.lost_in_background = 1;
+  want.lost_in_background_share = 0.5;
+  expect_scores(score(truth, pred), want);
+}
+
+TEST(Metrics, ObjectLeakingOntoTheTableIsNotLost) {
+  // The same truth; segment 5 = 3 table points, segment 6 = the other 3 table points and all of
+  // object 2 (exactly half on the background: not a background segment), segment 7 = object 3.
+  // Paper: 5 -> 1 (pure): P = 1, R = 3/6; 6 ties 1 and 2 (3 each) -> smaller truth label 1:
+  //   region 1 hit 3 + 3, claimed 3 + 6 -> P = 6/9, R = 1; region 2: 0, 0; 7 -> 3: 1, 1.
+  //   P = (2/3 + 0 + 1) / 3 = 5/9, R = 2/3.
+  // V: H(C|K) = (6/12) ln 2 (cluster 6 split 3/3), H(C) = H(.5, .25, .25) -> h = 1 - H(C|K)/H(C);
+  //   H(K|C) = (6/12) ln 2 (class 1 split 3/3), H(K) = H(.25, .5, .25) = H(C) -> c = h.
+  // Weighted overlap: IoU(2, 6) = 3/6, IoU(3, 7) = 1 -> (3 * 0.5 + 3) / 6 = 0.75.
+  // Object: 5 left out (all table); 6 kept (exactly half); 7 kept: |K| = 9. F(2,6) = 6/9,
+  //   F(3,7) = 1: |S∩G| = 3 + 3. P = 6/9, R = 6/6, F = 2 (2/3) / (5/3) = 0.8; detected: 3 yes,
+  //   2 no (6/9 < 0.75) -> 0.5.
+  // Over: 0. Under: 2's largest is 6, half on the table -> 1.
+  // Lost: 6 is not a background segment (exactly half) -> 0; unassigned 0.
+  const Labels truth = {1, 1, 1, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  const Labels pred = {5, 5, 5, 6, 6, 6, 6, 6, 6, 7, 7, 7};
+  SegmentationScores want = counts(12, 3, 2, 3);
+  want.paper_precision = 5.0 / 9;
+  want.paper_recall = 2.0 / 3;
+  const double x = 1 - 0.5 * std::log(2.0) / H({0.5, 0.25, 0.25});
+  want.v = {x, x, x};
+  want.weighted_overlap = 0.75;
+  want.object_precision = 6.0 / 9;
+  want.object_recall = 1;
+  want.object_f = 0.8;
+  want.detected_075 = 0.5;
+  want.under_segmented = 1;
+  expect_scores(score(truth, pred), want);
+}
+
+TEST(Metrics, UnassignedObjectIsNotLost) {
+  // The same truth; the table is segment 5 (pure), object 2 is all predicted 0, object 3 is
+  // segment 7 except one point predicted 5 (on the table segment).
+  // Paper: 5 -> 1 (6 vs 1): P = 6/7, R = 1; 7 -> 3: P = 1, R = 2/3; region 2: 0, 0.
+  //   P = (6/7 + 1) / 3 = 13/21, R = (1 + 2/3) / 3 = 5/9.
+  // V: clusters 5 (7: 6 + 1), 0 (3), 7 (2). H(C|K) = (7/12) H(6/7, 1/7), H(C) = H(.5, .25, .25);
+  //   H(K|C) = (3/12) H(1/3, 2/3) (class 3), H(K) = H(7/12, 3/12, 2/12).
+  // Weighted overlap: object 2 meets no segment: 0; IoU(3, 7) = 2/3 -> (0 + 3 * 2/3) / 6 = 1/3.
+  // Object: 5 left out (6/7 table); kept 7 (2). F(3,7) = 4/5. P = 2/2, R = 2/6, F = 0.5;
+  //   detected: 3 (0.8) -> 1/2.
+  // Over: object 3 has 7 (2/3) and 5 (1/3) -> 1. Under: 3's largest is 7, pure -> 0; object 2
+  //   has no segment.
+  // Lost: object 2 is unassigned (1), not lost; object 3's majority 7 is an object segment
+  //   (its one point on the table segment does not make it lost) -> lost 0.
+  const Labels truth = {1, 1, 1, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  const Labels pred = {5, 5, 5, 5, 5, 5, 0, 0, 0, 5, 7, 7};
+  SegmentationScores want = counts(12, 3, 2, 2);
+  want.paper_precision = 13.0 / 21;
+  want.paper_recall = 5.0 / 9;
+  const double h = 1 - 7.0 / 12 * H({6.0 / 7, 1.0 / 7}) / H({0.5, 0.25, 0.25});
+  const double c = 1 - 0.25 * H({1.0 / 3, 2.0 / 3}) / H({7.0 / 12, 3.0 / 12, 2.0 / 12});
+  want.v = vm(h, c);
+  want.weighted_overlap = 1.0 / 3;
+  want.object_precision = 1;
+  want.object_recall = 1.0 / 3;
+  want.object_f = 0.5;
+  want.detected_075 = 0.5;
+  want.over_segmented = 1;
+  want.unassigned_objects = 1;
+  expect_scores(score(truth, pred), want);
+}
+
 TEST(Metrics, MatchingAgreesWithBruteForce) {
   // Random small scenes; the object recall must be that of a matching with the maximal sum of F
   // found by trying every matching (any of them, should several reach the maximum).
@@ -454,6 +554,24 @@ TEST(Metrics, MatchingAgreesWithBruteForce) {
     for (const std::size_t m : best_matched) found |= std::abs(matched - m) < 1e-6;
     EXPECT_TRUE(found || (object_points == 0 && s.object_recall == 0))
         << "matched " << matched << ", best sum of F " << best;
+    // Lost in the background, counted the slow way: each object's majority segment (ascending
+    // ids, so a strict > keeps the smaller id on ties) is mostly background.
+    int lost = 0, unassigned = 0;
+    for (const std::uint32_t g : objects) {
+      std::uint32_t majority = 0;
+      std::size_t majority_n = 0;
+      for (const auto& [key, k] : inter)
+        if (key.first == g && k > majority_n) {
+          majority = key.second;
+          majority_n = k;
+        }
+      if (!majority_n)
+        ++unassigned;
+      else if (2 * s_bg[majority] > s_size[majority])
+        ++lost;
+    }
+    EXPECT_EQ(s.lost_in_background, lost);
+    EXPECT_EQ(s.unassigned_objects, unassigned);
   }
 }
 
@@ -559,7 +677,7 @@ TEST(Metrics, RealMosdScene) {
   // V: h = 0, c = 1, V = 0. Weighted overlap: IoU(G, S) = |G| / n -> sum |G|^2 / (n sum |G|).
   // Object: the segment is mostly table, so it is left out: no kept segment, P = R = F = 0,
   //   detected 0. Over: 0. Under: each object's largest segment is the one segment, >= 10% of
-  //   it on the table -> 2.
+  //   it on the table -> 2. Lost: that segment is mostly table -> both objects lost, share 1.
   ASSERT_GT(2 * table, n);
   SegmentationScores one = counts(n, 3, 2, 1);
   one.paper_precision = static_cast<double>(table) / n / 3;
@@ -567,5 +685,7 @@ TEST(Metrics, RealMosdScene) {
   one.v = {0, 1, 0};
   one.weighted_overlap = static_cast<double>(squares) / (static_cast<double>(n) * objects);
   one.under_segmented = 2;
+  one.lost_in_background = 2;
+  one.lost_in_background_share = 1;
   expect_scores(score(truth, Labels(truth.size(), 1)), one);
 }

@@ -206,6 +206,8 @@ TEST(Robustness, ColourAndDepthOfDifferentSizes) {
 TEST(Robustness, DepthAllZero) {
   const RgbdCrop c = ycb_crop();
   const fs::path o = kTmp / "zero-out";
+  // The second run below writes these: a run before this one must not leave them behind.
+  for (const char* ext : {".pcd", ".png", ".json"}) fs::remove(o.string() + ext);
   const CliRun r = segment_rgbd(c, c.colour, cv::Mat::zeros(c.depth.size(), CV_16UC1), "zero", o);
   expect_input_error(r, "zero-depth.png", o);
   EXPECT_NE(r.err.find("no valid depth"), std::string::npos) << r.err;

@@ -34,9 +34,20 @@ struct SceneScores {
 // Scores a predicted per-point labelling against the frame's truth (sizes must match).
 SceneScores score_scene(const Frame& truth, const std::vector<std::uint32_t>& predicted);
 
-// The category of an mOSD learn scene from its name ("learn17.pcd" -> "stacked"): 0-16 boxes,
-// 17-24 stacked, 25-32 occluded, 33-44 cylindric; any other name -> "other".
+// The category of a scene from its name: an mOSD learn scene ("learn17.pcd" -> "stacked"): 0-16
+// boxes, 17-24 stacked, 25-32 occluded, 33-44 cylindric; a name starting with "clutter" (the
+// generated clutter set of `proxseg synth --clutter`, clutter-001.pcd ...) -> "clutter"; any
+// other name -> "other".
 std::string scene_category(const std::string& scene_name);
+
+// The number at the end of a scene's file stem ("clutter-017.pcd" -> 17, "learn3.pcd" -> 3), or
+// -1 if the stem does not end in a digit.
+long scene_number(const std::string& scene_name);
+
+// The cross-validation fold of a scene (seg_cv): its category for mOSD learn scenes (boxes,
+// stacked, occluded, cylindric), "clutter-odd" / "clutter-even" for clutter scenes by the parity
+// of their number (the seed of the generated scene; no number -> "clutter-even"), "other" else.
+std::string scene_fold(const std::string& scene_name);
 
 // The files of a folder with one of the extensions (lower case), in natural order (learn2 before
 // learn10). InputError if the folder does not exist or holds no such file.
@@ -49,15 +60,43 @@ struct SummaryRow {
   std::string method, category;
   int scenes = 0;
   double seconds = 0;
-  SegmentationScores objects, parts;  // means of the scores; the int counts stay 0 here
+  // Means of the scores; the int counts stay 0 here. Except lost_in_background_share (objects
+  // and parts): pooled, the sum of lost objects over the sum of truth objects of the scenes.
+  SegmentationScores objects, parts;
   double over_segmented = 0, under_segmented = 0, truth_objects = 0;  // mean counts, objects
+  double lost_in_background = 0, unassigned_objects = 0;              // mean counts, objects
 };
 std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes);
 
+// Per-scene rows: every score of both schemes (objects_*, parts_*), lost_in_background,
+// unassigned_objects and lost_in_background_share included.
 std::string scenes_csv(const std::vector<SceneScores>& scenes);
 std::string summary_markdown(const std::vector<SummaryRow>& rows);
 nlohmann::json summary_json(const std::vector<SummaryRow>& rows);
 nlohmann::json scores_json(const SegmentationScores& s);
+
+// Cross-validated choice among variants (bench/seg_cv.cpp). scores[scene][variant]: a score to
+// maximise (e.g. object F) of every variant on every scene; fold_of_scene[scene]: the fold the
+// scene belongs to. For each fold the variant with the best mean score over the scenes OUTSIDE
+// the fold is chosen (ties -> the first variant) and scored on the fold's scenes, so no scene's
+// score comes from a choice that saw it. Throws std::invalid_argument if the matrix is empty or
+// not rectangular, the sizes differ, or there are fewer than two folds.
+struct CrossValidation {
+  std::vector<std::string> folds;               // in first-seen order of fold_of_scene
+  std::vector<int> fold_scenes;                 // per fold: its number of scenes
+  std::vector<std::vector<double>> fold_means;  // [fold][variant]: mean score on the fold
+  std::vector<double> variant_means;            // per variant: mean over all scenes
+  std::vector<int> chosen;                      // per fold: the variant chosen without the fold
+  std::vector<double> training;                 // per fold: that variant's mean outside the fold
+  std::vector<double> held_out;                 // per fold: that variant's mean on the fold
+  std::vector<int> scene_variant;               // per scene: the variant chosen for its fold
+  std::vector<double> scene_score;              // per scene: that variant's score on it
+  double overall = 0;                           // mean of scene_score: the cross-validated score
+  int best_in_sample = 0;                       // the variant with the best mean over all scenes
+  double in_sample = 0;                         // its mean (optimistic: chosen on the same scenes)
+};
+CrossValidation cross_validate(const std::vector<std::vector<double>>& scores,
+                               const std::vector<std::string>& fold_of_scene);
 
 // ---- Recognition on YCB-Video frames (../shared/data/ycbv) ----
 

@@ -50,6 +50,14 @@ struct SegmentationScores {
   // none if the object's points are all predicted 0) has >= 10% of its evaluated points on one
   // other truth region (another object or the background).
   int over_segmented = 0, under_segmented = 0;
+  // Objects lost in the background: truth objects whose majority segment (the non-zero predicted
+  // label holding most of the object's points, ties -> smaller label) is a background segment,
+  // i.e. has more than half of its evaluated points on background truth (the rule that leaves a
+  // segment out of the object P/R). Objects whose points are all predicted 0 have no majority
+  // segment: they are counted as unassigned_objects instead. lost_in_background_share =
+  // lost_in_background / truth_objects (0 if no objects).
+  int lost_in_background = 0, unassigned_objects = 0;
+  double lost_in_background_share = 0;
 };
 
 // truth: per point, 0 = not evaluated (invalid position or unlabelled), else a region id; the

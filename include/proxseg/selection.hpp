@@ -38,6 +38,44 @@ struct SelectionParams {
   double background_min_area = 0.06;         // m^2, product of the two largest extents
   double background_plane_distance = 0.015;  // metres from the component's best plane
   double background_inlier_ratio = 0.85;     // share of points within that distance
+
+  // Where the geometry of the selection is computed [extension]. kVoxels: the voxel clusters of
+  // the paper's 3.3 (with the extensions above). kImage: on the image grid of organized frames
+  // (per-pixel normals, depth-step and concavity edges between pixels, connected components);
+  // unorganized frames always use kVoxels. docs/method.md, "Selection on the image grid".
+  enum class Geometry { kVoxels, kImage };
+  Geometry geometry = Geometry::kImage;
+  // kImage: pixel offset of the central differences (and box-filter size) of the normals.
+  int image_normal_step = 5;
+  // kImage: neighbouring pixels whose depths differ by more than this share of the depth lie on
+  // different surfaces (a depth-discontinuity edge).
+  double depth_step_ratio = 0.02;
+  // kImage: the concavity test compares the normals of the pixels concavity_step pixels to
+  // either side of a pixel (along rows, columns and both diagonals); a crease turns them by more
+  // than crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside
+  // of a mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
+  int concavity_step = 4;
+  double crease_tolerance_deg = 25.0;
+  // kImage: the support plane takes a pixel within plane_band_sigmas standard deviations of the
+  // sensor's depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and
+  // disparity steps), and with its normal within support_normal_tolerance_deg.
+  double sensor_noise_at_1m = 0.0025;  // metres
+  double plane_band_sigmas = 3.0;
+  double plane_band_min = 0.005;  // metres: the band is never narrower (surface roughness)
+  // kImage, with merge_convex: components merge across gaps and short depth steps where their
+  // points come within cluster_tolerance, linked by pixel pairs at most merge_window pixels
+  // apart: at least merge_min_links links, at most merge_max_concave_share of them concave.
+  // Rays across bands of missing pixels (bridge_window pixels at most) link components whose
+  // ends lie within bridge_tolerance. A merge also needs merge_min_agreement of the links to
+  // join pixels of the same segmentation label (colour and texture).
+  int merge_window = 3;
+  int merge_min_links = 20;
+  int bridge_window = 24;
+  double bridge_tolerance = 0.08;  // metres
+  double merge_min_agreement = 0.5;
+  // A component with at least island_missing_share of its border beside missing pixels joins the
+  // component it has the most rays to (at least merge_min_links).
+  double island_missing_share = 0.9;
 };
 
 // An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
@@ -70,6 +108,14 @@ struct Selection {
 Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
                             const std::vector<std::uint32_t>& point_labels,
                             const SelectionParams& params);
+
+// Selection on the image grid of an organized frame (SelectionParams::Geometry::kImage): the
+// support plane within the sensor's noise, then connected components of the remaining pixels
+// that no depth step or concave crease separates; small pieces join their main neighbour.
+// point_labels as for select_candidates. threads: 0 = all cores; the result does not depend on it.
+Selection select_candidates_on_grid(const Frame& frame,
+                                    const std::vector<std::uint32_t>& point_labels,
+                                    const SelectionParams& params, int threads = 0);
 
 // The oriented bounding box of a set of points (principal axes).
 OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points);

@@ -1,0 +1,389 @@
+// Cross-validated choice of segmentation parameters: runs every variant of a grid once on every
+// scene of mOSD learn (and of the generated clutter set), then, for each fold (one mOSD category,
+// or one half of the clutter set by seed parity), picks the variant with the best mean object F on
+// all the other scenes and scores it on the fold. The held-out scores, put together, estimate
+// what choosing parameters on this data is worth on scenes it has not seen; the in-sample score
+// of the best variant overall is the optimistic figure beside it.
+// Usage: seg_cv --data DIR [--clutter DIR] --grid grid.json [--out cv.md] [--json cv.json]
+//               [--csv scenes.csv] [--scenes N] [--threads T]
+// grid.json: {"variants": {"name": {<parameters overrides>}, ...}} and/or
+//            {"sweep": {"mrf.pairwise_weight": [0.05, 0.1], "selection.x": [1, 2]}} (Cartesian
+//            product; dotted paths into the layout of the report's "parameters"). Every variant is
+//            read on top of preset default. A sweep value that is itself a list goes in a list of
+//            lists ([[...], [...]]); a single non-list value is a sweep of one.
+#include "bench_util.hpp"
+
+#include <proxseg/evaluation.hpp>
+#include <proxseg/io.hpp>
+#include <proxseg/params.hpp>
+#include <proxseg/pipeline.hpp>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace {
+
+using proxseg::InputError;
+
+std::string fmt(double v, int digits = 3) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+struct Variant {
+  std::string name;
+  nlohmann::json overrides;  // as given (on top of preset default)
+  proxseg::SegmentParams params;
+};
+
+// Sets a dotted path ("mrf.pairwise_weight") in a JSON object.
+void set_path(nlohmann::json& j, const std::string& path, const nlohmann::json& value) {
+  nlohmann::json* at = &j;
+  std::stringstream in(path);
+  std::vector<std::string> parts;
+  for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
+  if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); }))
+    throw InputError("sweep: bad path \"" + path + "\" (expected e.g. mrf.pairwise_weight)");
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    nlohmann::json& next = (*at)[parts[i]];
+    if (next.is_null()) next = nlohmann::json::object();
+    if (!next.is_object()) throw InputError("sweep: path \"" + path + "\" crosses a value");
+    at = &next;
+  }
+  (*at)[parts.back()] = value;
+}
+
+// The variants of a grid file, in file order (nlohmann::ordered_json keeps it: ties go to the
+// first variant, so the order matters).
+std::vector<Variant> read_grid(const std::string& path, int threads) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open (expected a grid JSON file)");
+  nlohmann::ordered_json grid;
+  try {
+    grid = nlohmann::ordered_json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not JSON (" + e.what() + ")");
+  }
+  if (!grid.is_object()) throw InputError(path + ": expected an object with variants or sweep");
+  std::vector<std::pair<std::string, nlohmann::json>> raw;  // name, overrides
+  for (const auto& [key, value] : grid.items()) {
+    if (key == "variants") {
+      if (!value.is_object()) throw InputError(path + ": variants: expected an object of objects");
+      for (const auto& [name, o] : value.items()) {
+        if (!o.is_object())
+          throw InputError(path + ": variants." + name + ": expected an object of parameters");
+        raw.emplace_back(name, nlohmann::json::parse(o.dump()));
+      }
+    } else if (key == "sweep") {
+      if (!value.is_object() || value.empty())
+        throw InputError(path + ": sweep: expected an object of path -> list of values");
+      // Cartesian product, the first path varying slowest.
+      std::vector<std::pair<std::string, nlohmann::json>> combos = {{"", nlohmann::json::object()}};
+      for (const auto& [dotted, values] : value.items()) {
+        const nlohmann::ordered_json list =
+            values.is_array() ? values : nlohmann::ordered_json::array({values});
+        if (list.empty()) throw InputError(path + ": sweep." + dotted + ": no values");
+        std::vector<std::pair<std::string, nlohmann::json>> next;
+        for (const auto& [name, overrides] : combos)
+          for (const auto& v : list) {
+            nlohmann::json o = overrides;
+            const nlohmann::json jv = nlohmann::json::parse(v.dump());
+            set_path(o, dotted, jv);
+            next.emplace_back(name + (name.empty() ? "" : ", ") + dotted + "=" + v.dump(), o);
+          }
+        combos = std::move(next);
+      }
+      raw.insert(raw.end(), combos.begin(), combos.end());
+    } else {
+      throw InputError(path + ": unknown key \"" + key + "\" (expected variants or sweep)");
+    }
+  }
+  if (raw.empty()) throw InputError(path + ": no variants");
+  std::vector<Variant> variants;
+  for (const auto& [name, o] : raw) {
+    for (const auto& v : variants)
+      if (v.name == name) throw InputError(path + ": variant " + name + " given twice");
+    Variant v{name, o, {}};
+    try {
+      v.params = proxseg::params_from_json(o, proxseg::preset("default"));
+      v.params.threads = threads;
+      proxseg::validate(v.params);
+    } catch (const InputError& e) {
+      throw InputError(path + ": variant " + name + ": " + e.what());
+    }
+    variants.push_back(std::move(v));
+  }
+  return variants;
+}
+
+std::vector<std::filesystem::path> scenes_of(const std::string& dir, int limit) {
+  std::vector<std::filesystem::path> files = proxseg::scene_files(dir);
+  if (limit > 0 && static_cast<int>(files.size()) > limit) {
+    std::vector<std::filesystem::path> spread;
+    for (int i = 0; i < limit; ++i) spread.push_back(files[i * files.size() / limit]);
+    files = spread;
+  }
+  return files;
+}
+
+struct Scene {
+  std::string name, set, category, fold;
+  std::vector<proxseg::SceneScores> scores;  // per variant
+};
+
+// Mean object F and pooled lost-in-background share of the scenes in a scope, each scored under
+// the variant variant_of(scene index).
+struct ScopeScore {
+  int scenes = 0;
+  double f = 0, lost_share = 0;
+};
+ScopeScore score_scope(const std::vector<Scene>& scenes,
+                       const std::function<bool(const Scene&)>& in,
+                       const std::function<int(std::size_t)>& variant_of) {
+  ScopeScore s;
+  long lost = 0, objects = 0;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    if (!in(scenes[i])) continue;
+    const proxseg::SegmentationScores& o = scenes[i].scores[variant_of(i)].objects;
+    ++s.scenes;
+    s.f += o.object_f;
+    lost += o.lost_in_background;
+    objects += o.truth_objects;
+  }
+  if (s.scenes) s.f /= s.scenes;
+  s.lost_share = objects ? static_cast<double>(lost) / static_cast<double>(objects) : 0.0;
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cross-validated choice of proxseg's segmentation parameters"};
+  std::string data, clutter, grid_path, out, json_path, csv;
+  int limit = 0, threads = 0;
+  app.add_option("--data", data, "Folder of labelled mOSD learn scenes")->required();
+  app.add_option("--clutter", clutter, "Folder of the generated clutter set (optional)");
+  app.add_option("--grid", grid_path, "Grid JSON: {\"variants\": {...}} or {\"sweep\": {...}}")
+      ->required();
+  app.add_option("--out", out, "Markdown report to write (also printed on stdout)");
+  app.add_option("--json", json_path, "JSON report to write");
+  app.add_option("--csv", csv, "Per-scene, per-variant scores (CSV) to write");
+  app.add_option("--scenes", limit, "Use only N scenes of each set, spread evenly (0 = all)");
+  app.add_option("--threads", threads, "Threads for proxseg (0 = all cores)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<Variant> variants;
+  struct Set {
+    std::string name;
+    std::vector<std::filesystem::path> files;
+  };
+  std::vector<Set> sets;
+  try {
+    variants = read_grid(grid_path, threads);
+    sets.push_back({"mOSD learn", scenes_of(data, limit)});
+    if (!clutter.empty()) sets.push_back({"clutter", scenes_of(clutter, limit)});
+  } catch (const InputError& e) {
+    std::cerr << "seg_cv: " << e.what() << "\n";
+    return 1;
+  }
+  std::size_t total = 0;
+  for (const auto& s : sets) total += s.files.size();
+  std::cerr << "seg_cv: " << variants.size() << " variants x " << total << " scenes\n";
+
+  // Every variant once on every scene, scenes one after the other (proxseg uses the cores).
+  std::vector<Scene> scenes;
+  std::size_t step = 0;
+  const auto started = std::chrono::steady_clock::now();
+  for (const auto& set : sets)
+    for (const auto& file : set.files) {
+      ++step;
+      const proxseg::Frame frame = proxseg::read_pcd(file.string());
+      Scene sc;
+      sc.name = file.filename().string();
+      sc.set = set.name;
+      if (frame.label.empty()) {
+        std::cerr << "[" << step << "/" << total << "] " << sc.name
+                  << " (no label field, skipped)\n";
+        continue;
+      }
+      if (set.name == "clutter") {
+        // Halves by seed parity: the number of clutter-NNN.pcd is the scene's seed.
+        sc.category = "clutter";
+        sc.fold = proxseg::scene_number(sc.name) % 2 == 1 ? "clutter-odd" : "clutter-even";
+      } else {
+        sc.category = sc.fold = proxseg::scene_category(sc.name);
+      }
+      std::ostringstream line;
+      for (const auto& v : variants) {
+        const auto start = std::chrono::steady_clock::now();
+        const auto labels = proxseg::segment(frame, v.params).selection.instance;
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        proxseg::SceneScores s = proxseg::score_scene(frame, labels);
+        s.scene = sc.name;
+        s.category = sc.category;
+        s.method = v.name;
+        s.seconds = seconds;
+        line << " " << fmt(s.objects.object_f);
+        sc.scores.push_back(s);
+      }
+      std::cerr << "[" << step << "/" << total << "] " << set.name << ": " << sc.name << " ("
+                << sc.fold << ") F" << line.str() << "\n";
+      scenes.push_back(std::move(sc));
+    }
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  std::vector<std::vector<double>> f(scenes.size());
+  std::vector<std::string> fold_of(scenes.size());
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    for (const auto& s : scenes[i].scores) f[i].push_back(s.objects.object_f);
+    fold_of[i] = scenes[i].fold;
+  }
+  proxseg::CrossValidation cv;
+  try {
+    cv = proxseg::cross_validate(f, fold_of);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "seg_cv: " << e.what() << " (" << scenes.size()
+              << " labelled scenes; use more scenes so that at least two folds have some)\n";
+    return 1;
+  }
+  const std::size_t nv = variants.size(), nf = cv.folds.size();
+  const auto cv_variant = [&](std::size_t i) { return cv.scene_variant[i]; };
+  const auto best_variant = [&](std::size_t) { return cv.best_in_sample; };
+
+  // Scopes of the result table: all scenes, each set, each mOSD category.
+  std::vector<std::pair<std::string, std::function<bool(const Scene&)>>> scopes = {
+      {"all", [](const Scene&) { return true; }}};
+  for (const auto& set : sets)
+    if (sets.size() > 1)
+      scopes.emplace_back(set.name, [name = set.name](const Scene& s) { return s.set == name; });
+  for (const std::string c : {"boxes", "stacked", "occluded", "cylindric", "other"})
+    if (std::any_of(scenes.begin(), scenes.end(),
+                    [&](const Scene& s) { return s.set != "clutter" && s.category == c; }))
+      scopes.emplace_back(c, [c](const Scene& s) { return s.set != "clutter" && s.category == c; });
+
+  std::ostringstream md;
+  md << "## Cross-validated segmentation parameters\n\n"
+     << "Generated by `bench/seg_cv` at commit " << proxseg::bench::git_commit() << " from `"
+     << grid_path << "`: " << nv << " variants (each on top of preset default) on ";
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    int n = 0;
+    for (const auto& s : scenes) n += s.set == sets[i].name;
+    md << (i ? " and " : "") << n << " " << sets[i].name << " scenes";
+  }
+  md << " (" << fmt(elapsed / 60, 1) << " min). Folds: leave one mOSD category out"
+     << (sets.size() > 1 ? "; the clutter set in two halves by seed parity" : "")
+     << ". For each fold the variant with the best mean object F on all other scenes is chosen "
+        "(ties -> the first) and scored on the fold.\n\n";
+
+  md << "### Result\n\n"
+     << "Cross-validated: every scene scored under the variant chosen without its fold. In-sample: "
+        "the variant with the best mean object F over all scenes (`"
+     << variants[cv.best_in_sample].name
+     << "`), scored on the same scenes it was chosen on (optimistic).\n\n"
+     << "| scenes in | scenes | CV object F | CV lost in bg | in-sample object F | in-sample lost "
+        "in bg |\n|---|---|---|---|---|---|\n";
+  nlohmann::json j_cv = nlohmann::json::object(), j_in = nlohmann::json::object();
+  for (const auto& [label, in] : scopes) {
+    const ScopeScore c = score_scope(scenes, in, cv_variant),
+                     b = score_scope(scenes, in, best_variant);
+    md << "| " << label << " | " << c.scenes << " | " << fmt(c.f) << " | " << fmt(c.lost_share)
+       << " | " << fmt(b.f) << " | " << fmt(b.lost_share) << " |\n";
+    j_cv[label] = {
+        {"scenes", c.scenes}, {"object_f", c.f}, {"lost_in_background_share", c.lost_share}};
+    j_in[label] = {
+        {"scenes", b.scenes}, {"object_f", b.f}, {"lost_in_background_share", b.lost_share}};
+  }
+
+  md << "\n### Folds\n\n| fold | scenes | chosen variant | training F | held-out F |\n"
+     << "|---|---|---|---|---|\n";
+  nlohmann::json j_folds = nlohmann::json::array();
+  for (std::size_t k = 0; k < nf; ++k) {
+    md << "| " << cv.folds[k] << " | " << cv.fold_scenes[k] << " | " << variants[cv.chosen[k]].name
+       << " | " << fmt(cv.training[k]) << " | " << fmt(cv.held_out[k]) << " |\n";
+    j_folds.push_back({{"fold", cv.folds[k]},
+                       {"scenes", cv.fold_scenes[k]},
+                       {"chosen", variants[cv.chosen[k]].name},
+                       {"training_object_f", cv.training[k]},
+                       {"held_out_object_f", cv.held_out[k]}});
+  }
+
+  md << "\n### Mean object F of every variant per fold\n\n| variant |";
+  for (const auto& fold : cv.folds) md << " " << fold << " |";
+  md << " all | lost in bg | s/frame |\n|---|";
+  for (std::size_t k = 0; k < nf + 3; ++k) md << "---|";
+  md << "\n";
+  nlohmann::json j_variants = nlohmann::json::array();
+  for (std::size_t v = 0; v < nv; ++v) {
+    const ScopeScore all = score_scope(
+        scenes, [](const Scene&) { return true; },
+        [v](std::size_t) { return static_cast<int>(v); });
+    double seconds = 0;
+    for (const auto& s : scenes) seconds += s.scores[v].seconds / scenes.size();
+    md << "| " << variants[v].name << (static_cast<int>(v) == cv.best_in_sample ? " (best)" : "")
+       << " |";
+    nlohmann::json per_fold = nlohmann::json::object();
+    for (std::size_t k = 0; k < nf; ++k) {
+      md << " " << fmt(cv.fold_means[k][v]) << " |";
+      per_fold[cv.folds[k]] = cv.fold_means[k][v];
+    }
+    md << " " << fmt(cv.variant_means[v]) << " | " << fmt(all.lost_share) << " | " << fmt(seconds)
+       << " |\n";
+    j_variants.push_back({{"name", variants[v].name},
+                          {"overrides", variants[v].overrides},
+                          {"object_f", cv.variant_means[v]},
+                          {"object_f_per_fold", per_fold},
+                          {"lost_in_background_share", all.lost_share},
+                          {"seconds_per_frame", seconds}});
+  }
+  md << "\nVariants (overrides of preset default):\n\n";
+  for (const auto& v : variants) md << "- `" << v.name << "`: `" << v.overrides.dump() << "`\n";
+
+  nlohmann::json j_scenes = nlohmann::json::array();
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    nlohmann::json per_variant = nlohmann::json::object();
+    for (std::size_t v = 0; v < nv; ++v) per_variant[variants[v].name] = f[i][v];
+    j_scenes.push_back({{"scene", scenes[i].name},
+                        {"set", scenes[i].set},
+                        {"fold", scenes[i].fold},
+                        {"chosen", variants[cv.scene_variant[i]].name},
+                        {"held_out_object_f", cv.scene_score[i]},
+                        {"object_f", per_variant}});
+  }
+  const nlohmann::json report = {
+      {"grid", grid_path},
+      {"commit", proxseg::bench::git_commit()},
+      {"criterion", "object_f"},
+      {"variants", j_variants},
+      {"folds", j_folds},
+      {"cross_validated", j_cv},
+      {"in_sample", {{"variant", variants[cv.best_in_sample].name}, {"scopes", j_in}}},
+      {"scenes", j_scenes}};
+
+  std::cout << md.str();
+  try {
+    if (!out.empty()) proxseg::write_file_atomic(out, md.str());
+    if (!json_path.empty()) proxseg::write_file_atomic(json_path, report.dump(2) + "\n");
+    if (!csv.empty()) {
+      std::vector<proxseg::SceneScores> all;
+      for (const auto& s : scenes) all.insert(all.end(), s.scores.begin(), s.scores.end());
+      proxseg::write_file_atomic(csv, proxseg::scenes_csv(all));
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "seg_cv: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
