@@ -247,18 +247,25 @@ struct LinkCount {
   int bridges = 0;                        // rays across missing pixels
 };
 
-// A component that meets the support plane without a crease and lies in it within
-// background_plane_distance (background_inlier_ratio of its points) is a piece of the plane that
-// left the sensor-noise band (the lens distorts depth towards the image corners): it joins it.
-bool plane_piece(const Frame& f, const SupportPlane& support, const std::vector<int>& points,
-                 const LinkCount& to_plane, const SelectionParams& params) {
-  if (!support.found || to_plane.links < params.merge_min_links ||
-      to_plane.concave > params.merge_max_concave_share * to_plane.links)
-    return false;
+// Whether points lie in the support plane within background_plane_distance (at least
+// background_inlier_ratio of them): the test for a piece of the plane rather than of an object.
+bool on_plane(const Frame& f, const SupportPlane& support, const std::vector<int>& points,
+              const SelectionParams& params) {
+  if (!support.found || points.empty()) return false;
   std::size_t near = 0;
   for (int p : points)
     near += std::abs(support.plane.distance(f.xyz[p])) <= params.background_plane_distance;
   return near >= params.background_inlier_ratio * points.size();
+}
+
+// A component that meets the support plane without a crease and lies in it is a piece of the
+// plane that left the sensor-noise band (the lens bends depth towards the image corners): it
+// joins it.
+bool plane_piece(const Frame& f, const SupportPlane& support, const std::vector<int>& points,
+                 const LinkCount& to_plane, const SelectionParams& params) {
+  return to_plane.links >= params.merge_min_links &&
+         to_plane.concave <= params.merge_max_concave_share * to_plane.links &&
+         on_plane(f, support, points, params);
 }
 
 void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
@@ -368,27 +375,33 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
 }
 
 // Components under min_points join the neighbour (another component or the plane) they share the
-// longest depth-continuous border with (ties: the smaller id, the plane last); two rounds, so a
-// piece beside a piece also finds a home. Pieces without neighbours are left unassigned.
-void absorb_small(const ImageGrid& g, int count, int min_points, std::vector<int>& comp) {
+// longest depth-continuous border with (ties: the smaller id); two rounds, so a piece beside a
+// piece also finds a home. The plane takes only pieces that lie in it: a small object on the
+// table (a marker, a duck seen from far) is not table. With `drop`, pieces still small afterwards
+// are left out of every instance.
+void absorb_small(const ImageGrid& g, const SupportPlane& support, const SelectionParams& params,
+                  int count, bool drop, std::vector<int>& comp) {
+  const int min_points = params.min_candidate_points;
   for (int round = 0; round < 2; ++round) {
-    std::vector<int> size(count, 0);
-    for (int c : comp)
-      if (c >= 0) ++size[c];
+    std::vector<std::vector<int>> points(count);
+    for (int p = 0; p < static_cast<int>(comp.size()); ++p)
+      if (comp[p] >= 0) points[comp[p]].push_back(p);
     std::vector<std::map<int, int>> contact(count);  // small -> neighbour -> border length
     for (int p = 0; p < static_cast<int>(comp.size()); ++p) {
       const int a = comp[p];
-      if (a < 0 || size[a] >= min_points) continue;
+      if (a < 0 || static_cast<int>(points[a].size()) >= min_points) continue;
       for (int q : g.neighbours(p))
         if (q >= 0 && comp[q] != kNone && comp[q] != a && g.continuous(p, q)) ++contact[a][comp[q]];
     }
     std::vector<int> target(count, kNone);
     bool changed = false;
     for (int c = 0; c < count; ++c) {
-      if (size[c] == 0 || size[c] >= min_points) continue;
+      const int size = static_cast<int>(points[c].size());
+      if (size == 0 || size >= min_points) continue;
+      const bool plane_ok = on_plane(g.frame, support, points[c], params);
       int best = kNone, longest = 0;
-      for (const auto& [n, length] : contact[c])  // kPlane sorts first: it wins only outright
-        if (length > longest || (length == longest && best == kPlane)) best = n, longest = length;
+      for (const auto& [n, length] : contact[c])
+        if (length > longest && (n != kPlane || plane_ok)) best = n, longest = length;
       target[c] = best;
       changed |= best != kNone;
     }
@@ -396,7 +409,7 @@ void absorb_small(const ImageGrid& g, int count, int min_points, std::vector<int
       if (c >= 0 && target[c] != kNone) c = target[c];
     if (!changed) break;
   }
-  // Whatever is still small stays out of every instance.
+  if (!drop) return;
   std::vector<int> size(count, 0);
   for (int c : comp)
     if (c >= 0) ++size[c];
@@ -438,10 +451,10 @@ Selection select_candidates_on_grid(const Frame& frame,
   for (std::size_t p = 0; p < frame.size(); ++p)
     if (in_plane[p] && point_labels[p] != 0) comp[p] = kPlane;
   fill(grid, comp);
-  if (params.absorb_small) absorb_small(grid, count, params.min_candidate_points, comp);
+  if (params.absorb_small) absorb_small(grid, support, params, count, false, comp);
   if (params.merge_convex)
     merge_convex_links(grid, normals, crease, support, point_labels, params, count, comp);
-  if (params.absorb_small) absorb_small(grid, count, params.min_candidate_points, comp);
+  if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
 
   // Instances in the order of their first pixel; the plane is one background instance.
   std::map<int, int> slot;

@@ -116,7 +116,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
                               : r.point_labels;
   r.times_ms.emplace_back("point_labels", watch.lap());
 
-  // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size.
+  // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
+  // organized frame by default the geometry is read on the image grid instead of the voxels.
   r.selection =
       params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized()
           ? select_candidates_on_grid(frame, r.point_labels, params.selection, params.threads)
