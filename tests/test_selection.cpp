@@ -235,7 +235,8 @@ TEST(ImageSelection, FindsEveryObjectOfARenderedTableByGeometry) {
   // apart.
   for (std::uint32_t a = 2; a <= 6; ++a)
     for (std::uint32_t b = a + 1; b <= 6; ++b) {
-      if (!(a == 3 && b == 4)) EXPECT_NE(instance_of[a], instance_of[b]) << a << " and " << b;
+      if (a == 3 && b == 4) continue;
+      EXPECT_NE(instance_of[a], instance_of[b]) << a << " and " << b;
     }
 }
 
