@@ -284,6 +284,7 @@ SegmentParams preset(const std::string& name) {
     p.selection.cut_support_plane = false;
     p.selection.absorb_small = false;
     p.selection.geometry = SelectionParams::Geometry::kVoxels;
+    p.selection.min_candidate_points = 500;  // the threshold this preset has always used
     return p;
   }
   throw InputError("preset: expected \"default\" or \"paper\", got \"" + name + "\"");

@@ -102,8 +102,8 @@ TEST(SegQuality, LearnScenesFloor) {
 TEST(SegQuality, ClutterScenesFloor) {
   const Quality q = score(clutter_scenes(), preset("default"));
   std::printf("clutter: object F %.3f, lost in background %.0f of %.0f\n", q.f, q.lost, q.objects);
-  EXPECT_GE(q.f, 0.85);
-  EXPECT_LE(q.lost, 0.03 * q.objects);
+  EXPECT_GE(q.f, 0.90);
+  EXPECT_LE(q.lost, 0.02 * q.objects);
 }
 
 // Same labels and instances whatever the thread count, on a real and a generated scene.

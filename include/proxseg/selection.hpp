@@ -17,7 +17,7 @@ struct SelectionParams {
   double weak_density_ratio = 0.25;
   // Euclidean clustering of the remaining points [3.3]: points closer than this are connected.
   double cluster_tolerance = 0.01;  // metres
-  int min_candidate_points = 500;   // smaller components are not candidates
+  int min_candidate_points = 300;   // smaller components are not candidates (paper preset: 500)
   bool absorb_small = true;         // small components join their main large neighbour, else 0
   // Convexity [extension, after Stein et al., LCCP]: voxel edges whose normals differ by more than
   // the tolerance and turn towards each other are concave. split_concave cuts clusters there;
@@ -49,13 +49,13 @@ struct SelectionParams {
   int image_normal_step = 5;
   // kImage: neighbouring pixels whose depths differ by more than this share of the depth lie on
   // different surfaces (a depth-discontinuity edge).
-  double depth_step_ratio = 0.02;
+  double depth_step_ratio = 0.01;
   // kImage: the concavity test compares the normals of the pixels concavity_step pixels to
   // either side of a pixel (along rows, columns and both diagonals); a crease turns them by more
   // than crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside
   // of a mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
-  int concavity_step = 4;
-  double crease_tolerance_deg = 25.0;
+  int concavity_step = 5;
+  double crease_tolerance_deg = 35.0;
   // kImage: the support plane takes a pixel within plane_band_sigmas standard deviations of the
   // sensor's depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and
   // disparity steps), and with its normal within support_normal_tolerance_deg.
@@ -72,7 +72,7 @@ struct SelectionParams {
   int merge_min_links = 20;
   int bridge_window = 24;
   double bridge_tolerance = 0.08;  // metres
-  double merge_min_agreement = 0.5;
+  double merge_min_agreement = 0.8;
   // A component with at least island_missing_share of its border beside missing pixels joins the
   // component it has the most rays to (at least merge_min_links).
   double island_missing_share = 0.9;
