@@ -23,8 +23,22 @@ cv::Vec3b label_colour(std::uint32_t label) {
   return bgr.at<cv::Vec3b>(0, 0);
 }
 
-cv::Vec3b blend(const Rgb& rgb, std::uint32_t label) {
-  const cv::Vec3b c = label_colour(label);
+// The colour of a label, converted once per label and image: label_colour's one-pixel OpenCV
+// conversion per point cost more than the whole segmentation.
+class LabelColours {
+ public:
+  const cv::Vec3b& operator()(std::uint32_t label) {
+    auto it = cache_.find(label);
+    if (it == cache_.end()) it = cache_.emplace(label, label_colour(label)).first;
+    return it->second;
+  }
+
+ private:
+  std::map<std::uint32_t, cv::Vec3b> cache_;
+};
+
+cv::Vec3b blend(const Rgb& rgb, std::uint32_t label, LabelColours& colours) {
+  const cv::Vec3b c = colours(label);
   return {static_cast<uchar>((rgb[2] + c[0]) / 2), static_cast<uchar>((rgb[1] + c[1]) / 2),
           static_cast<uchar>((rgb[0] + c[2]) / 2)};
 }
@@ -33,6 +47,7 @@ cv::Vec3b blend(const Rgb& rgb, std::uint32_t label) {
 // to the cloud), or orthographically along z when the cloud is not in front of the origin.
 cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labels) {
   const int w = 640, h = 480;
+  LabelColours colours;
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(40, 40, 40));
   std::vector<float> depth(w * h, std::numeric_limits<float>::infinity());
   std::size_t in_front = 0, valid = 0;
@@ -63,7 +78,7 @@ cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labe
         const int u = static_cast<int>(q.x()) + du, v = static_cast<int>(q.y()) + dv;
         if (u < 0 || v < 0 || u >= w || v >= h || z >= depth[v * w + u]) continue;
         depth[v * w + u] = z;
-        image.at<cv::Vec3b>(v, u) = blend(frame.rgb[i], labels[i]);
+        image.at<cv::Vec3b>(v, u) = blend(frame.rgb[i], labels[i], colours);
       }
   }
   return image;
@@ -111,6 +126,7 @@ Projection fit_projection(const Frame& frame) {
 
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& labels) {
   cv::Mat image;
+  LabelColours colours;
   if (frame.organized()) {
     const int w = frame.width, h = frame.height;
     image.create(h, w, CV_8UC3);
@@ -120,7 +136,7 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
         const Rgb& c = frame.rgb[i];
         // Invalid or unlabelled pixels are shown dimmed, labelled ones blended with their label.
         image.at<cv::Vec3b>(v, u) =
-            labels[i] ? blend(c, labels[i]) : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
+            labels[i] ? blend(c, labels[i], colours) : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
       }
     // Label boundaries in white.
     for (int v = 0; v < h; ++v)
