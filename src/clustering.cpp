@@ -31,8 +31,11 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(d);
   // Non-zeros per row (compressed rows, columns ascending), built column by column.
   std::vector<int> start(n + 1, 0);
-  for (int a = 0; a < d; ++a)
-    for (Eigen::Index k = 0; k < n; ++k) start[k + 1] += features(k, cols[a]) != 0.f;
+  for (int a = 0; a < d; ++a) {
+    const float* column = features.col(cols[a]).data();
+    int* count = start.data() + 1;
+    for (Eigen::Index k = 0; k < n; ++k) count[k] += column[k] != 0.f;  // vectorises
+  }
   std::partial_sum(start.begin(), start.end(), start.begin());
   std::vector<int> index(start[n]);
   std::vector<double> value(start[n]);
@@ -67,11 +70,33 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
         const int* idx = index.data() + start[k];
         const double* val = value.data() + start[k];
         const int m = start[k + 1] - start[k];
-        for (int i = static_cast<int>(std::lower_bound(idx, idx + m, a0) - idx);
-             i < m && idx[i] < a1; ++i) {
+        const int first = static_cast<int>(std::lower_bound(idx, idx + m, a0) - idx);
+        const int last = static_cast<int>(std::lower_bound(idx + first, idx + m, a1) - idx);
+        // Each entry takes one product per feature row, so within a row the products may come
+        // in any order: four output rows at a time share the loads of the column indices and
+        // values.
+        int i = first;
+        for (; i + 3 < last; i += 4) {
+          double* row[4];
+          double v[4];
+          for (int r = 0; r < 4; ++r) {
+            row[r] = s.data() + static_cast<Eigen::Index>(idx[i + r]) * d;
+            v[r] = val[i + r];
+          }
+          for (int j = 0; j <= i; ++j) {
+            const int c = idx[j];
+            const double f = val[j];
+            row[0][c] += v[0] * f;
+            row[1][c] += v[1] * f;
+            row[2][c] += v[2] * f;
+            row[3][c] += v[3] * f;
+          }
+          for (int r = 1; r < 4; ++r)  // the triangle's corner
+            for (int j = i + 1; j <= i + r; ++j) row[r][idx[j]] += v[r] * val[j];
+        }
+        for (; i < last; ++i) {
           double* row = s.data() + static_cast<Eigen::Index>(idx[i]) * d;
-          const double vi = val[i];
-          for (int j = 0; j <= i; ++j) row[idx[j]] += vi * val[j];
+          for (int j = 0; j <= i; ++j) row[idx[j]] += val[i] * val[j];
         }
       }
     }
@@ -198,13 +223,74 @@ TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
   return out;
 }
 
+// The same k eigenpairs by the Lanczos method with full reorthogonalisation: the Krylov space of
+// a fixed start vector grows until the top k Ritz pairs have residuals ||A y - theta y|| under
+// 1e-10 of the largest Ritz value. Each step costs one product with the d x d matrix instead of
+// the O(d^3) tridiagonalisation, and 40-80 steps suffice for a feature covariance. Falls back to
+// top_eigen when the space stops growing before the pairs have converged (an invariant subspace:
+// a repeated eigenvalue could be missed) or reaches d.
+TopEigen top_eigen_lanczos(const Eigen::MatrixXd& lower, int k) {
+  const Eigen::Index d = lower.rows();
+  constexpr Eigen::Index kDenseBelow = 64;  // small matrices: the dense solver is cheap and exact
+  if (d < kDenseBelow || k >= d / 4) return top_eigen(lower, k);
+  const Eigen::MatrixXd a = lower.selfadjointView<Eigen::Lower>();
+  constexpr double kTolerance = 1e-10;
+  const Eigen::Index max_steps = d - 1;
+  Eigen::MatrixXd v(d, max_steps + 1);  // Lanczos vectors
+  Eigen::VectorXd alpha(max_steps), beta(max_steps);
+  // A fixed start vector with no special direction (the golden-ratio sequence, centred).
+  for (Eigen::Index i = 0; i < d; ++i) {
+    const double t = static_cast<double>(i + 1) * 0.6180339887498949;
+    v(i, 0) = t - std::floor(t) - 0.5;
+  }
+  v.col(0).normalize();
+  Eigen::VectorXd w(d);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
+  for (Eigen::Index j = 0; j < max_steps; ++j) {
+    w.noalias() = a * v.col(j);
+    alpha(j) = v.col(j).dot(w);
+    // Full reorthogonalisation, twice (classical Gram-Schmidt): the three-term recurrence alone
+    // loses orthogonality as soon as a Ritz pair converges.
+    for (int pass = 0; pass < 2; ++pass)
+      w.noalias() -= v.leftCols(j + 1) * (v.leftCols(j + 1).transpose() * w);
+    beta(j) = w.norm();
+    const Eigen::Index m = j + 1;
+    if (m >= k && (m % 4 == 0 || !(beta(j) > 0))) {
+      Eigen::MatrixXd t = Eigen::MatrixXd::Zero(m, m);
+      t.diagonal() = alpha.head(m);
+      t.diagonal(-1) = beta.head(m - 1);
+      ritz.compute(t);  // ascending
+      const double largest = ritz.eigenvalues()(m - 1);
+      bool converged = largest > 0;
+      for (int c = 0; c < k && converged; ++c)
+        converged = std::abs(beta(j) * ritz.eigenvectors()(m - 1, m - 1 - c)) <=
+                    kTolerance * largest;
+      if (converged) {
+        TopEigen out;
+        out.largest = largest;
+        out.values.resize(k);
+        out.vectors.resize(d, k);
+        for (int c = 0; c < k; ++c) {
+          out.values(c) = ritz.eigenvalues()(m - 1 - c);
+          out.vectors.col(c) = (v.leftCols(m) * ritz.eigenvectors().col(m - 1 - c)).normalized();
+        }
+        return out;
+      }
+    }
+    if (!(beta(j) > 1e-12 * std::abs(alpha(0)))) break;  // invariant subspace: not converged
+    v.col(j + 1) = w / beta(j);
+  }
+  return top_eigen(lower, k);
+}
+
 }  // namespace
 
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims) {
-  return principal_axes(features, dims, 0);
+  return principal_axes(features, dims, 0, PcaSolver::kDense);
 }
 
-FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads) {
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads,
+                            PcaSolver solver) {
   FeatureSpace space;
   const Eigen::Index n = features.rows(), d = features.cols();
   space.mean = n > 0 ? Eigen::VectorXd(features.cast<double>().colwise().mean().transpose())
@@ -218,8 +304,9 @@ FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threa
   for (Eigen::Index c = 0; c < d; ++c)
     if ((features.col(c).array() != features(0, c)).any()) varying.push_back(static_cast<int>(c));
   if (varying.empty()) return space;
-  const TopEigen eig =
-      top_eigen(covariance_lower(features, varying, threads), std::min<int>(dims, d));
+  const Eigen::MatrixXd cov = covariance_lower(features, varying, threads);
+  const int k = std::min<int>(dims, d);
+  const TopEigen eig = solver == PcaSolver::kLanczos ? top_eigen_lanczos(cov, k) : top_eigen(cov, k);
   // Keep the leading axes, but none that carries no variance (switched-off blocks, n < dims).
   const double floor = std::max(eig.largest, 0.0) * 1e-9;
   int keep = 0;
@@ -374,19 +461,30 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial,
                     const KMeansParams& params) {
   KMeansResult r;
   r.centroids = initial;
-  const Eigen::Index n = x.rows();
+  const Eigen::Index n = x.rows(), d = x.cols();
   r.labels.assign(n, 0);
   if (n == 0 || initial.rows() == 0) {
-    r.centroids.resize(0, x.cols());
+    r.centroids.resize(0, d);
     return r;
   }
+  // Distances and means are summed over the dimensions in order, as Eigen's row-wise squaredNorm
+  // and row additions do, so the results are those of the Eigen expressions, bit for bit. The
+  // distances to one centroid are computed for all rows at once, down the columns of x (which
+  // vectorises).
+  const Eigen::MatrixXd xt = x.transpose();  // rows of x as contiguous columns, for the means
+  Eigen::ArrayXd dist(n), best(n);
   // Assignment to the nearest centroid (ties to the lowest index); clusters left empty are
   // dropped and the labels renumbered.
   auto assign = [&] {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      Eigen::Index arg;
-      (r.centroids.rowwise() - x.row(i)).rowwise().squaredNorm().minCoeff(&arg);
-      r.labels[i] = static_cast<int>(arg);
+    for (Eigen::Index c = 0; c < r.centroids.rows(); ++c) {
+      dist.setZero();
+      for (Eigen::Index j = 0; j < d; ++j) dist += (r.centroids(c, j) - x.col(j).array()).square();
+      const int label = static_cast<int>(c);
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (c == 0 || dist[i] < best[i]) {
+          best[i] = dist[i];
+          r.labels[i] = label;
+        }
     }
     std::vector<int> renumber(r.centroids.rows(), -1);
     for (int l : r.labels) renumber[l] = 0;
@@ -394,7 +492,7 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial,
     for (int& id : renumber)
       if (id == 0) id = kept++;
     if (kept == r.centroids.rows()) return;
-    Eigen::MatrixXd compact(kept, x.cols());
+    Eigen::MatrixXd compact(kept, d);
     for (Eigen::Index c = 0; c < r.centroids.rows(); ++c)
       if (renumber[c] >= 0) compact.row(renumber[c]) = r.centroids.row(c);
     r.centroids = std::move(compact);
@@ -406,15 +504,16 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, const Eigen::MatrixXd& initial,
   for (int it = 0; it < params.max_iterations; ++it) {
     r.iterations = it + 1;
     assign();
-    Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(r.centroids.rows(), x.cols());
-    Eigen::VectorXd count = Eigen::VectorXd::Zero(r.centroids.rows());
+    const Eigen::Index k = r.centroids.rows();
+    Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(d, k);  // column c: the sum of cluster c's rows
+    Eigen::VectorXd count = Eigen::VectorXd::Zero(k);
     for (Eigen::Index i = 0; i < n; ++i) {
-      mean.row(r.labels[i]) += x.row(i);
+      sum.col(r.labels[i]) += xt.col(i);
       count(r.labels[i]) += 1;
     }
-    mean.array().colwise() /= count.array();
+    const Eigen::MatrixXd mean = (sum.array().rowwise() / count.transpose().array()).transpose();
     const double moved = (mean - r.centroids).rowwise().norm().maxCoeff();
-    r.centroids = std::move(mean);
+    r.centroids = mean;
     if (moved <= params.tolerance * scale) break;
   }
   assign();  // labels agree with the returned centroids

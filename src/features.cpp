@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -27,7 +28,12 @@ int bin_of(double t, int bins) {  // t in [0, 1] -> 0..bins-1
 
 // HSV with h in [0, 1) (fraction of the hue circle), s and v in [0, 1].
 Eigen::Vector3d rgb_to_hsv(const Rgb& c) {
-  const double r = c[0] / 255.0, g = c[1] / 255.0, b = c[2] / 255.0;
+  static const std::array<double, 256> unit = [] {  // byte / 255.0, without the divisions
+    std::array<double, 256> t;
+    for (int i = 0; i < 256; ++i) t[i] = i / 255.0;
+    return t;
+  }();
+  const double r = unit[c[0]], g = unit[c[1]], b = unit[c[2]];
   const double mx = std::max({r, g, b}), mn = std::min({r, g, b}), delta = mx - mn;
   double h = 0;
   if (delta > 0) {
@@ -124,10 +130,13 @@ float gaussian_factor(double eu, double ev, double du2, double dv2, double denom
   return static_cast<float>(std::exp(-(du2 + dv2) / denom));
 }
 
-// Spectrum of one pyramid level (the level sizes are already fast DFT sizes, but padding keeps
-// any size right).
-cv::Mat level_spectrum(const cv::Mat& grey) {
-  const int rows = cv::getOptimalDFTSize(grey.rows), cols = cv::getOptimalDFTSize(grey.cols);
+// Spectrum of one pyramid level, padded to a fast DFT size (the level sizes of a 640 x 480 frame
+// already are). With stride 2 the size is even and its half is a fast size too.
+cv::Mat level_spectrum(const cv::Mat& grey, int stride) {
+  auto padded_size = [stride](int n) {
+    return stride == 1 ? cv::getOptimalDFTSize(n) : 2 * cv::getOptimalDFTSize((n + 1) / 2);
+  };
+  const int rows = padded_size(grey.rows), cols = padded_size(grey.cols);
   cv::Mat padded;
   cv::copyMakeBorder(grey, padded, 0, rows - grey.rows, 0, cols - grey.cols, cv::BORDER_REFLECT);
   cv::Mat spectrum;
@@ -139,12 +148,20 @@ cv::Mat level_spectrum(const cv::Mat& grey) {
 // one-sided Gaussian centred on the filter's frequency, which is the Fourier transform of a
 // complex Gabor kernel, so the inverse transform is the complex response. `work` holds buffers
 // reused between calls of one thread.
+//
+// With stride 2 the response is wanted at every second position of the level only: sampling it
+// so folds its spectrum onto the half-size frequency grid (bin k and bin k + n/2 land together),
+// so the inverse DFT of the folded product, a quarter of the size, gives exactly those samples (up
+// to rounding) at a quarter of the cost. The samples are taken half a pixel off the pixel grid,
+// at (2i + 1/2, 2j + 1/2) (a phase ramp on the spectrum: the response is band-limited), where
+// cv::resize expects the centres of a half-size image to lie.
 struct GaborWork {
   cv::Mat filtered, planes[2];
   std::vector<double> du2, dv2, eu, ev;
+  std::vector<float> column_re, column_im;
 };
-void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, const FeatureParams& params,
-                     GaborWork& work, cv::Mat& magnitude) {
+void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, int stride,
+                     const FeatureParams& params, GaborWork& work, cv::Mat& magnitude) {
   const int rows = spectrum.rows, cols = spectrum.cols;
   const double f0 = 1.0 / params.gabor_wavelength;           // cycles per pixel
   const double sf = 1.0 / (2.0 * kPi * params.gabor_sigma);  // frequency-domain std
@@ -163,24 +180,60 @@ void gabor_magnitude(const cv::Mat& spectrum, cv::Size size, int o, const Featur
   };
   axis(cols, fu, work.du2, work.eu);
   axis(rows, fv, work.dv2, work.ev);
-  work.filtered.create(spectrum.size(), spectrum.type());
-  for (int r = 0; r < rows; ++r) {
-    const auto* in = spectrum.ptr<cv::Vec2f>(r);
-    auto* dst = work.filtered.ptr<cv::Vec2f>(r);
-    for (int c = 0; c < cols; ++c)
-      dst[c] = in[c] * gaussian_factor(work.eu[c], work.ev[r], work.du2[c], work.dv2[r], denom);
+  if (stride == 1) {
+    work.filtered.create(spectrum.size(), spectrum.type());
+    for (int r = 0; r < rows; ++r) {
+      const auto* in = spectrum.ptr<cv::Vec2f>(r);
+      auto* dst = work.filtered.ptr<cv::Vec2f>(r);
+      for (int c = 0; c < cols; ++c)
+        dst[c] = in[c] * gaussian_factor(work.eu[c], work.ev[r], work.du2[c], work.dv2[r], denom);
+    }
+  } else {
+    // The folded product; the factor 1/4 keeps the scale of the full-size inverse DFT. The
+    // envelope times the half-pixel shift exp(i pi f) (f in cycles per sample) is separable: the
+    // two halves of a spectrum row meet under their column factors, then under the row factor.
+    const int half_rows = rows / 2, half_cols = cols / 2;
+    auto shifted = [](double envelope, int i, int n) {
+      return std::polar(envelope, kPi * (i <= n / 2 ? i : i - n) / n);
+    };
+    work.column_re.resize(cols);
+    work.column_im.resize(cols);
+    for (int c = 0; c < cols; ++c) {
+      const std::complex<double> z = shifted(work.eu[c], c, cols);
+      work.column_re[c] = static_cast<float>(z.real());
+      work.column_im[c] = static_cast<float>(z.imag());
+    }
+    const float* kr = work.column_re.data();
+    const float* ki = work.column_im.data();
+    work.filtered = cv::Mat::zeros(half_rows, half_cols, spectrum.type());
+    for (int r = 0; r < rows; ++r) {
+      const float* in = spectrum.ptr<float>(r);  // re, im interleaved
+      float* dst = work.filtered.ptr<float>(r < half_rows ? r : r - half_rows);
+      const std::complex<double> z = shifted(0.25 * work.ev[r], r, rows);
+      const float fr = static_cast<float>(z.real()), fi = static_cast<float>(z.imag());
+      for (int c = 0; c < half_cols; ++c) {
+        const int c2 = c + half_cols;  // std::complex's operator* would check for NaN: written out
+        const float a = in[2 * c] * kr[c] - in[2 * c + 1] * ki[c] + in[2 * c2] * kr[c2] -
+                        in[2 * c2 + 1] * ki[c2];
+        const float b = in[2 * c] * ki[c] + in[2 * c + 1] * kr[c] + in[2 * c2] * ki[c2] +
+                        in[2 * c2 + 1] * kr[c2];
+        dst[2 * c] += a * fr - b * fi;
+        dst[2 * c + 1] += a * fi + b * fr;
+      }
+    }
+    size = cv::Size((size.width + 1) / 2, (size.height + 1) / 2);
   }
   cv::idft(work.filtered, work.filtered, cv::DFT_COMPLEX_OUTPUT | cv::DFT_SCALE);  // in place
   cv::split(work.filtered(cv::Rect(0, 0, size.width, size.height)), work.planes);
   cv::magnitude(work.planes[0], work.planes[1], magnitude);
 }
 
-}  // namespace
-
-Eigen::VectorXf colour_feature(const std::vector<Rgb>& colours) {
+// The colour block of `count` pixels, colour(j) the j-th one's colour.
+template <class Colour>
+Eigen::VectorXf colour_block(std::size_t count, Colour&& colour) {
   Eigen::VectorXf f = Eigen::VectorXf::Zero(kColourDims);
-  for (const Rgb& c : colours) {
-    const Eigen::Vector3d hsv = rgb_to_hsv(c);
+  for (std::size_t j = 0; j < count; ++j) {
+    const Eigen::Vector3d hsv = rgb_to_hsv(colour(j));
     f(bin_of(hsv[0], kHistogramBins) * kHistogramBins + bin_of(hsv[1], kHistogramBins)) += 1;
     f(100 + bin_of(hsv[2], kHistogramBins)) += 1;
   }
@@ -189,19 +242,22 @@ Eigen::VectorXf colour_feature(const std::vector<Rgb>& colours) {
   return f;
 }
 
-Eigen::VectorXf shape_feature(const std::vector<Eigen::Vector3f>& points,
-                              const std::vector<Eigen::Vector3f>& normals) {
+// The shape block of `count` points, point(j) the j-th one, and of the `normal_count` normals
+// normal(j) (one per point, NaN where unknown).
+template <class Point, class Normal>
+Eigen::VectorXf shape_block(std::size_t count, Point&& point, std::size_t normal_count,
+                            Normal&& normal) {
   Eigen::VectorXf f = Eigen::VectorXf::Zero(kShapeDims);
-  if (points.size() >= 3) {
+  if (count >= 3) {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& p : points) mean += p.cast<double>();
-    mean /= static_cast<double>(points.size());
+    for (std::size_t j = 0; j < count; ++j) mean += point(j).template cast<double>();
+    mean /= static_cast<double>(count);
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto& p : points) {
-      const Eigen::Vector3d d = p.cast<double>() - mean;
+    for (std::size_t j = 0; j < count; ++j) {
+      const Eigen::Vector3d d = point(j).template cast<double>() - mean;
       cov += d * d.transpose();
     }
-    cov /= static_cast<double>(points.size());
+    cov /= static_cast<double>(count);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov, Eigen::EigenvaluesOnly);
     const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);  // ascending
     const double sum = l.sum();
@@ -214,10 +270,25 @@ Eigen::VectorXf shape_feature(const std::vector<Eigen::Vector3f>& points,
   }
   // 10x10 histogram of the normals' polar angles: inclination from the optical axis in [0, pi]
   // and azimuth in [-pi, pi).
-  for (const auto& n : normals)
+  for (std::size_t j = 0; j < normal_count; ++j) {
+    const Eigen::Vector3f& n = normal(j);
     if (n.allFinite()) f(4 + normal_bin(n)) += 1;
+  }
   normalise(f.tail(100));
   return f;
+}
+
+}  // namespace
+
+Eigen::VectorXf colour_feature(const std::vector<Rgb>& colours) {
+  return colour_block(colours.size(), [&](std::size_t j) -> const Rgb& { return colours[j]; });
+}
+
+Eigen::VectorXf shape_feature(const std::vector<Eigen::Vector3f>& points,
+                              const std::vector<Eigen::Vector3f>& normals) {
+  return shape_block(
+      points.size(), [&](std::size_t j) -> const Eigen::Vector3f& { return points[j]; },
+      normals.size(), [&](std::size_t j) -> const Eigen::Vector3f& { return normals[j]; });
 }
 
 namespace {
@@ -261,24 +332,33 @@ struct TextureEdges {
     for (const float e : edge) b += m >= e;
     return b;
   }
-  // count[b] += the pixels of `pixels` in bin b. bin(m) is the number of edges <= m, so bin b
-  // holds (edges <= m reached b) - (reached b + 1): counting m >= edge[k] for every k needs no
-  // scattered increments (and vectorises).
-  void histogram(const float* magnitude, const std::vector<int>& pixels, int* count) const {
-    int reached[kHistogramBins - 1] = {};
-    int compared = 0;
-    for (const int p : pixels) {
-      const float m = magnitude[p];
-      if (!(m < exact_above)) {
-        ++count[texture_bin(m, upper)];
+  // count[10 * row[t] + b] += 1 for each pixel pixels[t] in bin b. The pixels are taken four at
+  // a time: one 4-lane vector comparison per edge counts the edges each one reaches, which is
+  // its bin (GCC and Clang vector extensions; a true lane is -1).
+  void histograms(const float* magnitude, const std::vector<int>& pixels,
+                  const std::vector<int>& row, int* count) const {
+    using Floats = float __attribute__((vector_size(16)));
+    using Ints = int __attribute__((vector_size(16)));
+    const Floats below = {exact_above, exact_above, exact_above, exact_above};
+    const std::size_t n = pixels.size();
+    std::size_t t = 0;
+    for (; t + 4 <= n; t += 4) {
+      const Floats m = {magnitude[pixels[t]], magnitude[pixels[t + 1]], magnitude[pixels[t + 2]],
+                        magnitude[pixels[t + 3]]};
+      int inside[4];
+      const Ints compared = m < below;
+      std::memcpy(inside, &compared, sizeof inside);
+      if (!(inside[0] & inside[1] & inside[2] & inside[3])) {  // one needs the division
+        for (int lane = 0; lane < 4; ++lane) ++count[kHistogramBins * row[t + lane] + bin(m[lane])];
         continue;
       }
-      ++compared;
-      for (int k = 0; k < kHistogramBins - 1; ++k) reached[k] += m >= edge[k];
+      Ints reached = {};
+      for (const float e : edge) reached -= m >= Floats{e, e, e, e};
+      int b[4];
+      std::memcpy(b, &reached, sizeof b);
+      for (int lane = 0; lane < 4; ++lane) ++count[kHistogramBins * row[t + lane] + b[lane]];
     }
-    count[0] += compared - reached[0];
-    for (int b = 1; b < kHistogramBins - 1; ++b) count[b] += reached[b - 1] - reached[b];
-    count[kHistogramBins - 1] += reached[kHistogramBins - 2];
+    for (; t < n; ++t) ++count[kHistogramBins * row[t] + bin(magnitude[pixels[t]])];
   }
 };
 
@@ -346,11 +426,12 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
   for (std::size_t i = 0; i < n; i += 4) {
     if (frame.valid(i)) sampled.push_back(static_cast<int>(i));
   }
+  const int stride = params.gabor_stride;
   // The 4 spectra, then the 24 filters (largest level first), are independent tasks.
 #pragma omp parallel num_threads(nthreads)
   {
 #pragma omp for schedule(dynamic, 1)
-    for (int s = 0; s < kGaborScales; ++s) spectra[s] = level_spectrum(levels[s]);
+    for (int s = 0; s < kGaborScales; ++s) spectra[s] = level_spectrum(levels[s], stride);
     GaborWork work;
     cv::Mat level_magnitude, full;
     std::vector<float> sample, candidates;
@@ -362,11 +443,11 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
       }
       const int filter = task;
       const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
-      // At full resolution (level 0 needs no resizing).
-      if (s == 0) {
-        gabor_magnitude(spectra[s], levels[s].size(), o, params, work, full);
+      // At full resolution (level 0 at stride 1 needs no resizing).
+      if (s == 0 && stride == 1) {
+        gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, full);
       } else {
-        gabor_magnitude(spectra[s], levels[s].size(), o, params, work, level_magnitude);
+        gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, level_magnitude);
         cv::resize(level_magnitude, full, grey.size(), 0, 0, cv::INTER_LINEAR);
       }
       CV_Assert(full.isContinuous() && full.type() == CV_32F);
@@ -388,12 +469,14 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
 GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads) {
   GaborBank bank;
   if (!frame.organized()) return bank;
+  FeatureParams every_pixel = params;  // the reference responses (see features.hpp)
+  every_pixel.gabor_stride = 1;
   bank.width = frame.width;
   bank.height = frame.height;
   const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
   bank.magnitude.assign(kGaborScales * kGaborOrientations, {});
   gabor_filters(
-      frame, params, threads, bank.upper_edge,
+      frame, every_pixel, threads, bank.upper_edge,
       [&](int filter, const float* m) { bank.magnitude[filter].assign(m, m + n); }, [] {});
   return bank;
 }
@@ -419,35 +502,31 @@ Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& p
 
 namespace {
 
-// Normals of row v of an organized frame from the smoothed points (valid where mask > 0):
+// Normals of row v of an organized w x h frame from the smoothed points (valid where mask > 0):
 // central differences s pixels apart, skipping neighbours across a depth step.
-void normals_row(const Frame& frame, const float* mask, const Eigen::Vector3f* smooth, int s, int v,
-                 Eigen::Vector3f* normals) {
-  const int w = frame.width, h = frame.height;
-  auto at = [&](int u, int y, Eigen::Vector3f& p) {
-    if (u < 0 || y < 0 || u >= w || y >= h || !(mask[y * w + u] > 0)) return false;
-    p = smooth[y * w + u];
-    return true;
-  };
+void normals_row(const Eigen::Vector3f* xyz, const float* mask, const Eigen::Vector3f* smooth,
+                 int w, int h, int s, int v, Eigen::Vector3f* normals) {
+  const bool up = v - s >= 0, down = v + s < h;
   for (int u = 0; u < w; ++u) {
-    Eigen::Vector3f c, l, r, t, b;
-    if (!at(u, v, c)) continue;
+    const int i = v * w + u;
+    if (!(mask[i] > 0)) continue;
+    const Eigen::Vector3f c = smooth[i];
     // Beyond this depth step a neighbour is another surface (|z|: some clouds look down -z).
     const float jump = 0.05f * std::abs(c.z());
-    auto usable = [&](bool ok, const Eigen::Vector3f& p) {
-      return ok && std::abs(p.z() - c.z()) < jump;
+    auto usable = [&](bool inside, int j) {
+      return inside && mask[j] > 0 && std::abs(smooth[j].z() - c.z()) < jump;
     };
-    const bool hl = usable(at(u - s, v, l), l), hr = usable(at(u + s, v, r), r);
-    const bool ht = usable(at(u, v - s, t), t), hb = usable(at(u, v + s, b), b);
+    const bool hl = usable(u - s >= 0, i - s), hr = usable(u + s < w, i + s);
+    const bool ht = usable(up, i - s * w), hb = usable(down, i + s * w);
     if (!(hl || hr) || !(ht || hb)) continue;
-    const Eigen::Vector3f du = (hr ? r : c) - (hl ? l : c);
-    const Eigen::Vector3f dv = (hb ? b : c) - (ht ? t : c);
+    const Eigen::Vector3f du = (hr ? smooth[i + s] : c) - (hl ? smooth[i - s] : c);
+    const Eigen::Vector3f dv = (hb ? smooth[i + s * w] : c) - (ht ? smooth[i - s * w] : c);
     Eigen::Vector3f n = du.cross(dv);
     const float len = n.norm();
     if (!(len > 0)) continue;
     n /= len;
-    if (n.dot(frame.xyz[v * w + u]) > 0) n = -n;  // towards the sensor
-    normals[v * w + u] = n;
+    if (n.dot(xyz[i]) > 0) n = -n;  // towards the sensor
+    normals[i] = n;
   }
 }
 
@@ -501,9 +580,9 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   static_assert(sizeof(cv::Vec3f) == sizeof(Eigen::Vector3f), "same layout");
   CV_Assert(sx.isContinuous() && mask.isContinuous());
   const auto* smooth = reinterpret_cast<const Eigen::Vector3f*>(sx.ptr<cv::Vec3f>(0));
-  // Serial: as an OpenMP loop (or any out-of-line function) this loop is twice as slow with GCC 12
-  // (measured), which undoes the gain of a second thread.
-  for (int v = 0; v < h; ++v) normals_row(frame, mask.ptr<float>(0), smooth, s, v, normals.data());
+#pragma omp parallel for schedule(static) num_threads(nthreads)
+  for (int v = 0; v < h; ++v)
+    normals_row(frame.xyz.data(), mask.ptr<float>(0), smooth, w, h, s, v, normals.data());
   return normals;
 }
 
@@ -533,22 +612,34 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
   const int filters = kGaborScales * kGaborOrientations;
   std::vector<std::vector<float>> texture_blocks(texture ? filters : 0);
   if (texture) {
+    // The points of the rows in image order (each with its row), so that the magnitude images
+    // are read front to back.
+    std::vector<int> row_of_voxel(grid.size(), -1), pixels, pixel_row;
+    for (std::size_t row = 0; row < voxels.size(); ++row)
+      row_of_voxel[voxels[row]] = static_cast<int>(row);
+    for (std::size_t p = 0; p < grid.voxel_of_point.size(); ++p) {
+      const int v = grid.voxel_of_point[p];
+      if (v >= 0 && row_of_voxel[v] >= 0) {
+        pixels.push_back(static_cast<int>(p));
+        pixel_row.push_back(row_of_voxel[v]);
+      }
+    }
     const float weight = static_cast<float>(params.texture_weight);
     std::vector<float> upper_edge;
     gabor_filters(
         frame, params, threads, upper_edge,
         [&](int filter, const float* m) {
-          const TextureEdges edges(upper_edge[filter]);
+          std::vector<int> count(voxels.size() * kHistogramBins, 0);
+          TextureEdges(upper_edge[filter]).histograms(m, pixels, pixel_row, count.data());
           std::vector<float>& out = texture_blocks[filter];
           out.assign(voxels.size() * kHistogramBins, 0.f);
           for (std::size_t row = 0; row < voxels.size(); ++row) {
-            const std::vector<int>& pts = grid.points[voxels[row]];
-            int count[kHistogramBins] = {};
-            edges.histogram(m, pts, count);
-            if (pts.empty()) continue;
-            const float total = static_cast<float>(pts.size());
+            const std::size_t points = grid.points[voxels[row]].size();
+            if (points == 0) continue;
+            const float total = static_cast<float>(points);
             for (int b = 0; b < kHistogramBins; ++b)
-              out[row * kHistogramBins + b] = static_cast<float>(count[b]) / total * weight;
+              out[row * kHistogramBins + b] =
+                  static_cast<float>(count[row * kHistogramBins + b]) / total * weight;
           }
         },
         compute_normals);
@@ -559,22 +650,16 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
   for (std::size_t row = 0; row < voxels.size(); ++row) {
     const std::vector<int>& pts = grid.points[voxels[row]];
     if (colour) {
-      std::vector<Rgb> colours;
-      colours.reserve(pts.size());
-      for (int i : pts) colours.push_back(frame.rgb[i]);
       f.row(row).segment(0, kColourDims) =
-          colour_feature(colours) * static_cast<float>(params.colour_weight);
+          colour_block(pts.size(), [&](std::size_t j) -> const Rgb& { return frame.rgb[pts[j]]; }) *
+          static_cast<float>(params.colour_weight);
     }
     if (shape) {
-      std::vector<Eigen::Vector3f> p, n;
-      p.reserve(pts.size());
-      n.reserve(pts.size());
-      for (int i : pts) {
-        p.push_back(frame.xyz[i]);
-        n.push_back(normals[i]);
-      }
+      auto point = [&](std::size_t j) -> const Eigen::Vector3f& { return frame.xyz[pts[j]]; };
+      auto normal = [&](std::size_t j) -> const Eigen::Vector3f& { return normals[pts[j]]; };
       f.row(row).segment(kColourDims + kTextureDims, kShapeDims) =
-          shape_feature(p, n) * static_cast<float>(params.shape_weight);
+          shape_block(pts.size(), point, pts.size(), normal) *
+          static_cast<float>(params.shape_weight);
     }
   }
   // The texture blocks, column by column.

@@ -79,7 +79,13 @@ class BinaryCut {
     for (std::size_t i = 0; i < m; ++i) total += cap_source_[i] + cap_sink_[i];
     for (const auto& e : edges_) total += e.cap_ij + e.cap_ji;
     const double scale = total > 0 ? std::min(4503599627370496.0 / total, 1e300) : 1.0;
-    auto quantize = [scale](double c) { return static_cast<Cap>(std::llround(c * scale)); };
+    // std::llround for 0 <= c * scale <= 2^52, where the fraction x - trunc(x) is exact, without
+    // the library call (a tenth of the MRF's instructions).
+    auto quantize = [scale](double c) {
+      const double x = c * scale;
+      const Cap t = static_cast<Cap>(x);
+      return t + (x - static_cast<double>(t) >= 0.5);
+    };
 
     arcs_.resize(na);
     cap_.resize(na);

@@ -12,6 +12,9 @@ namespace proxseg {
 void to_json(nlohmann::json& j, MrfMethod m) {
   j = m == MrfMethod::kSwap ? "swap" : "expansion";
 }
+void to_json(nlohmann::json& j, PcaSolver s) {
+  j = s == PcaSolver::kDense ? "dense" : "lanczos";
+}
 void to_json(nlohmann::json& j, SelectionParams::Geometry g) {
   j = g == SelectionParams::Geometry::kImage ? "image" : "voxels";
 }
@@ -40,10 +43,12 @@ void fields(P& p, F&& f) {
   f("features", "gabor_wavelength", p.features.gabor_wavelength);
   f("features", "gabor_sigma", p.features.gabor_sigma);
   f("features", "texture_clip_quantile", p.features.texture_clip_quantile);
+  f("features", "gabor_stride", p.features.gabor_stride);
   f("features", "normal_step", p.features.normal_step);
   f("features", "normal_knn", p.features.normal_knn);
   f("clustering", "alpha", p.clustering.alpha);
   f("clustering", "pca_dims", p.clustering.pca_dims);
+  f("clustering", "pca_solver", p.clustering.pca_solver);
   f("clustering", "prior_weight", p.clustering.prior_weight);
   f("clustering", "balance_blocks", p.clustering.balance_blocks);
   f("kmeans", "max_iterations", p.kmeans.max_iterations);
@@ -160,6 +165,14 @@ void read_value(const std::string& name, const json& v, SelectionParams::Geometr
   else
     wrong_type(name, "\"image\" or \"voxels\"", v);
 }
+void read_value(const std::string& name, const json& v, PcaSolver& out) {
+  if (v == "dense")
+    out = PcaSolver::kDense;
+  else if (v == "lanczos")
+    out = PcaSolver::kLanczos;
+  else
+    wrong_type(name, "\"dense\" or \"lanczos\"", v);
+}
 void read_value(const std::string& name, const json& v, MrfMethod& out) {
   if (v == "swap")
     out = MrfMethod::kSwap;
@@ -273,7 +286,9 @@ SegmentParams preset(const std::string& name) {
   if (name == "paper") {
     // Section 3.1-3.2 and the GCO call of section 3.2.
     p.voxels.voxel_size = 0.02;
+    p.features.gabor_stride = 1;  // Gabor responses at every pixel
     p.clustering.alpha = 0.85;
+    p.clustering.pca_solver = PcaSolver::kDense;  // the full eigendecomposition
     p.mrf.unary_weight = 1.0;
     p.mrf.pairwise_weight = 0.275;
     p.mrf.method = MrfMethod::kSwap;
@@ -310,6 +325,8 @@ void validate(const SegmentParams& p) {
           "> 0 pixels");
   require(p.features.texture_clip_quantile > 0 && p.features.texture_clip_quantile <= 1,
           "features.texture_clip_quantile", "in (0, 1]");
+  require(p.features.gabor_stride == 1 || p.features.gabor_stride == 2, "features.gabor_stride",
+          "1 (every pixel) or 2");
   require(p.features.normal_step >= 1 && p.features.normal_step <= 50, "features.normal_step",
           "1..50 pixels");
   require(p.features.normal_knn >= 3, "features.normal_knn", ">= 3");

@@ -22,32 +22,39 @@ class Stopwatch {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-// Every valid point takes the label of its voxel; points of voxels too sparse to be clustered
-// take the label of the nearest clustered voxel (by voxel centroid).
-std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
-                                        const std::vector<int>& clustered,
-                                        const std::vector<int>& labels) {
-  std::vector<int> voxel_label(grid.size(), -1);
-  for (std::size_t i = 0; i < clustered.size(); ++i) voxel_label[clustered[i]] = labels[i];
-  auto centroid = [&](int v) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int p : grid.points[v]) c += frame.xyz[p].cast<double>();
-    return Eigen::Vector3d(c / static_cast<double>(grid.points[v].size()));
-  };
+// The clustered voxel whose label each voxel takes: its own index in `clustered` if it was
+// clustered, else the nearest clustered voxel by voxel centroid; -1 if there is none.
+std::vector<int> label_sources(const Frame& frame, const VoxelGrid& grid,
+                               const std::vector<int>& clustered) {
+  std::vector<int> source(grid.size(), -1);
+  for (std::size_t i = 0; i < clustered.size(); ++i) source[clustered[i]] = static_cast<int>(i);
   if (clustered.size() < grid.size() && !clustered.empty()) {
+    auto centroid = [&](int v) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int p : grid.points[v]) c += frame.xyz[p].cast<double>();
+      return Eigen::Vector3d(c / static_cast<double>(grid.points[v].size()));
+    };
     Eigen::MatrixXd centres(3, clustered.size());
     for (std::size_t i = 0; i < clustered.size(); ++i) centres.col(i) = centroid(clustered[i]);
     open3d::geometry::KDTreeFlann tree(centres);
     std::vector<int> index(1);
     std::vector<double> dist2(1);
     for (std::size_t v = 0; v < grid.size(); ++v)
-      if (voxel_label[v] < 0 && tree.SearchKNN(centroid(static_cast<int>(v)), 1, index, dist2) == 1)
-        voxel_label[v] = labels[index[0]];
+      if (source[v] < 0 && tree.SearchKNN(centroid(static_cast<int>(v)), 1, index, dist2) == 1)
+        source[v] = index[0];
   }
+  return source;
+}
+
+// Every valid point takes the label of its voxel's source (label_sources): 1..k, 0 for invalid
+// points.
+std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
+                                        const std::vector<int>& source,
+                                        const std::vector<int>& labels) {
   std::vector<std::uint32_t> out(frame.size(), 0);
   for (std::size_t p = 0; p < frame.size(); ++p) {
     const int v = grid.voxel_of_point[p];
-    if (v >= 0 && voxel_label[v] >= 0) out[p] = static_cast<std::uint32_t>(voxel_label[v] + 1);
+    if (v >= 0 && source[v] >= 0) out[p] = static_cast<std::uint32_t>(labels[source[v]] + 1);
   }
   return out;
 }
@@ -79,7 +86,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
                                 {kColourDims, kTextureDims, fp.texture_weight},
                                 {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
   }
-  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads);
+  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
+                           params.clustering.pca_solver);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
   r.times_ms.emplace_back("initial_clustering", watch.lap());
@@ -110,10 +118,10 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.times_ms.emplace_back("mrf", watch.lap());
 
   // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
-  r.point_labels = label_points(frame, r.voxels, r.clustered, r.labels);
-  r.point_labels_kmeans = params.mrf.enabled
-                              ? label_points(frame, r.voxels, r.clustered, r.labels_kmeans)
-                              : r.point_labels;
+  const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
+  r.point_labels = label_points(frame, r.voxels, source, r.labels);
+  r.point_labels_kmeans =
+      params.mrf.enabled ? label_points(frame, r.voxels, source, r.labels_kmeans) : r.point_labels;
   r.times_ms.emplace_back("point_labels", watch.lap());
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an

@@ -23,10 +23,10 @@ struct KeyPacker {
   Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = Eigen::Vector3i::Constant(-1);
   int bits_x = 0, bits_y = 0, bits = 0;
   bool fits = false;
-  explicit KeyPacker(const std::vector<std::pair<Eigen::Vector3i, int>>& keyed) {
-    if (keyed.empty()) return;
-    lo = hi = keyed.front().first;
-    for (const auto& [key, index] : keyed) {
+  explicit KeyPacker(const std::vector<Eigen::Vector3i>& keys) {
+    if (keys.empty()) return;
+    lo = hi = keys.front();
+    for (const Eigen::Vector3i& key : keys) {
       lo = lo.cwiseMin(key);
       hi = hi.cwiseMax(key);
     }
@@ -50,17 +50,16 @@ struct KeyPacker {
   }
 };
 
-// Sorts the (key, point) pairs, in point order on entry, by packed key with a stable LSD radix
-// sort, so points stay ascending within a key: the order std::sort by (key, point) gives. Each
-// item is one integer, packed key above the pair's position. False if they do not fit in 64 bits.
-bool radix_sort(std::vector<std::pair<Eigen::Vector3i, int>>& keyed, const KeyPacker& packer) {
+// The positions of `keys` sorted by key, equal keys in position order, by a stable LSD radix
+// sort of the packed keys. Each item is one integer, packed key above the position. Empty if
+// they do not fit in 64 bits.
+std::vector<int> radix_order(const std::vector<Eigen::Vector3i>& keys, const KeyPacker& packer) {
   constexpr int kDigit = 11;
   int position_bits = 0;
-  while ((std::uint64_t{1} << position_bits) < keyed.size()) ++position_bits;
-  if (!packer.fits || packer.bits + position_bits > 64) return false;
-  std::vector<std::uint64_t> a(keyed.size()), b(keyed.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i)
-    a[i] = packer.pack(keyed[i].first) << position_bits | i;
+  while ((std::uint64_t{1} << position_bits) < keys.size()) ++position_bits;
+  if (!packer.fits || packer.bits + position_bits > 64) return {};
+  std::vector<std::uint64_t> a(keys.size()), b(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) a[i] = packer.pack(keys[i]) << position_bits | i;
   for (int shift = position_bits; shift < position_bits + packer.bits; shift += kDigit) {
     std::vector<std::size_t> start((1 << kDigit) + 1, 0);
     for (const std::uint64_t item : a) ++start[((item >> shift) & ((1 << kDigit) - 1)) + 1];
@@ -68,10 +67,18 @@ bool radix_sort(std::vector<std::pair<Eigen::Vector3i, int>>& keyed, const KeyPa
     for (const std::uint64_t item : a) b[start[(item >> shift) & ((1 << kDigit) - 1)]++] = item;
     a.swap(b);
   }
-  std::vector<std::pair<Eigen::Vector3i, int>> sorted(keyed.size());
+  std::vector<int> order(keys.size());
   const std::uint64_t position_mask = (std::uint64_t{1} << position_bits) - 1;
-  for (std::size_t i = 0; i < keyed.size(); ++i) sorted[i] = keyed[a[i] & position_mask];
-  keyed.swap(sorted);
+  for (std::size_t i = 0; i < keys.size(); ++i) order[i] = static_cast<int>(a[i] & position_mask);
+  return order;
+}
+
+// floor(t) as an int when -1e9 <= t < 1e9 + 1 (exactly when floor(t) is within +-1e9), without
+// the library call; false otherwise (and for NaN).
+bool floor_within(double t, int& out) {
+  if (!(t >= -1e9 && t < 1e9 + 1)) return false;
+  const int truncated = static_cast<int>(t);
+  out = truncated - (truncated > t);
   return true;
 }
 
@@ -83,60 +90,78 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
   grid.voxel_size = voxel_size;
   grid.voxel_of_point.assign(frame.size(), -1);
 
-  // (key, point) pairs sorted by key, then by point index: voxels and their point lists come out
-  // in a canonical order.
-  std::vector<std::pair<Eigen::Vector3i, int>> keyed;
-  keyed.reserve(frame.size());
+  // The cell of every valid point, in point order. Coordinates beyond the int range cannot be
+  // voxelised; those points are treated as invalid.
+  std::vector<Eigen::Vector3i> cells;
+  std::vector<int> point;
+  cells.reserve(frame.size());
+  point.reserve(frame.size());
   const double inv = 1.0 / voxel_size;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     if (!frame.valid(i)) continue;
     const Eigen::Vector3f& p = frame.xyz[i];
-    const Eigen::Vector3d c = (p.cast<double>() * inv).array().floor();
-    // Coordinates beyond the int range cannot be voxelised; treat them as invalid.
-    if ((c.array().abs() > 1e9).any()) continue;
-    keyed.emplace_back(c.cast<int>(), static_cast<int>(i));
+    Eigen::Vector3i c;
+    if (!floor_within(p.x() * inv, c.x()) || !floor_within(p.y() * inv, c.y()) ||
+        !floor_within(p.z() * inv, c.z()))
+      continue;
+    cells.push_back(c);
+    point.push_back(static_cast<int>(i));
   }
-  const KeyPacker packer(keyed);
-  if (!radix_sort(keyed, packer)) {
-    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
-      if (a.first != b.first) return key_less(a.first, b.first);
-      return a.second < b.second;
-    });
+  // Sorted by cell, then by point index: voxels and their point lists come out in a canonical
+  // order.
+  const KeyPacker packer(cells);
+  std::vector<int> order = radix_order(cells, packer);
+  if (order.size() != cells.size()) {
+    order.resize(cells.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return key_less(cells[a], cells[b]); });
   }
-  for (const auto& [key, index] : keyed) {
-    if (grid.keys.empty() || grid.keys.back() != key) {
-      grid.keys.push_back(key);
-      grid.points.emplace_back();
+  for (std::size_t s = 0; s < order.size();) {
+    const Eigen::Vector3i& key = cells[order[s]];
+    std::size_t e = s + 1;
+    while (e < order.size() && cells[order[e]] == key) ++e;
+    const int v = static_cast<int>(grid.keys.size());
+    grid.keys.push_back(key);
+    std::vector<int>& pts = grid.points.emplace_back(e - s);
+    for (std::size_t t = s; t < e; ++t) {
+      pts[t - s] = point[order[t]];
+      grid.voxel_of_point[pts[t - s]] = v;
     }
-    grid.points.back().push_back(index);
-    grid.voxel_of_point[index] = static_cast<int>(grid.keys.size()) - 1;
+    s = e;
   }
 
-  // 26-neighbourhood by binary search in the sorted keys; symmetric by construction.
+  // 26-neighbourhood in the sorted keys; symmetric by construction.
   grid.neighbours.resize(grid.keys.size());
+  int found[26];
   if (packer.fits) {
     // Packed keys: cells (x - 1, y', z'), (x, y', z'), (x + 1, y', z') are consecutive in the
     // order, so one search per (y', z') row finds all three; rows are visited in key order, so
-    // the neighbours come out ascending.
+    // the neighbours come out ascending. The first cell of a row, taken for the voxels in
+    // order, only moves forward: one cursor per row offset walks the keys once.
     std::vector<std::uint64_t> packed(grid.keys.size());
     for (std::size_t v = 0; v < grid.keys.size(); ++v) packed[v] = packer.pack(grid.keys[v]);
+    std::size_t cursor[9] = {};
     for (std::size_t v = 0; v < grid.keys.size(); ++v) {
       const Eigen::Vector3i& k = grid.keys[v];
+      int count = 0;
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy) {
           const Eigen::Vector3i first(std::max(k.x() - 1, packer.lo.x()), k.y() + dy, k.z() + dz);
           const Eigen::Vector3i last(std::min(k.x() + 1, packer.hi.x()), k.y() + dy, k.z() + dz);
           if (!packer.inside(first) || !packer.inside(last)) continue;
-          const std::uint64_t end = packer.pack(last);
-          for (auto it = std::lower_bound(packed.begin(), packed.end(), packer.pack(first));
-               it != packed.end() && *it <= end; ++it)
-            if (static_cast<std::size_t>(it - packed.begin()) != v)
-              grid.neighbours[v].push_back(static_cast<int>(it - packed.begin()));
+          std::size_t& it = cursor[(dz + 1) * 3 + dy + 1];
+          const std::uint64_t begin = packer.pack(first), end = packer.pack(last);
+          while (it < packed.size() && packed[it] < begin) ++it;
+          for (std::size_t q = it; q < packed.size() && packed[q] <= end; ++q)
+            if (q != v) found[count++] = static_cast<int>(q);
         }
+      grid.neighbours[v].assign(found, found + count);
     }
     return grid;
   }
   for (std::size_t v = 0; v < grid.keys.size(); ++v) {
+    int count = 0;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -144,9 +169,9 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
           const Eigen::Vector3i q = grid.keys[v] + Eigen::Vector3i(dx, dy, dz);
           auto it = std::lower_bound(grid.keys.begin(), grid.keys.end(), q, key_less);
           if (it != grid.keys.end() && *it == q)
-            grid.neighbours[v].push_back(static_cast<int>(it - grid.keys.begin()));
+            found[count++] = static_cast<int>(it - grid.keys.begin());
         }
-    std::sort(grid.neighbours[v].begin(), grid.neighbours[v].end());
+    grid.neighbours[v].assign(found, found + count);  // (dz, dy, dx) order is key order
   }
   return grid;
 }

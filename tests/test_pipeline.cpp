@@ -77,7 +77,9 @@ TEST(Pipeline, RealMosdSceneSeparatesObjectsFromTable) {
   const auto truth = mosd_objects(f.label);
   const double v = v_measure(truth, r.point_labels).v;
   std::cout << "learn0: k = " << r.k() << ", V = " << v << "\n";
-  EXPECT_GE(v, 0.40);
+  // 0.395 with texture at stride 2 (0.40 at stride 1; over the 45 learn scenes stride 2's raw
+  // labels are better: docs/method.md, Speed).
+  EXPECT_GE(v, 0.38);
   EXPECT_EQ(objects_apart(truth, r.point_labels, 1),
             static_cast<int>(majority(truth, truth).size()) - 1);
 }
@@ -122,7 +124,7 @@ TEST(Pipeline, SyntheticSceneObjectsApartFromTable) {
   const double v = v_measure(f.label, r.point_labels).v;
   std::cout << "synthetic: k = " << r.k() << ", V = " << v << "\n";
   EXPECT_EQ(objects_apart(f.label, r.point_labels, 1), 5);
-  EXPECT_GE(v, 0.55);
+  EXPECT_GE(v, 0.47);  // 0.497 with texture at stride 2, 0.55 at stride 1 (see learn0 above)
 }
 
 TEST(Pipeline, SameLabelsWhateverTheThreadCount) {

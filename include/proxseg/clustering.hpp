@@ -5,9 +5,15 @@
 
 namespace proxseg {
 
+// How the principal axes are found: kDense, a full symmetric eigensolver (tridiagonalisation and
+// QR); kLanczos, Krylov iterations until the axes' residuals are 1e-10 of the largest variance
+// (a tenth of the cost; the axes agree to about that precision).
+enum class PcaSolver { kDense, kLanczos };
+
 struct ClusteringParams {
   double alpha = 0.85;  // chi-square confidence of the "same centroid" test (paper: 0.85)
   int pca_dims = 4;     // features are projected on this many principal axes (docs/method.md)
+  PcaSolver pca_solver = PcaSolver::kLanczos;
   // Centroid covariance = (n * sample + prior_weight * global) / (n + prior_weight): shrinkage
   // towards the global feature covariance, so a one-voxel centroid has a usable metric. The
   // default (1e6) in effect uses the global covariance for every centroid: best on mOSD learn.
@@ -29,9 +35,12 @@ struct FeatureSpace {
   Eigen::MatrixXd axes;       // raw dims x pca_dims, orthonormal columns
   Eigen::VectorXd variances;  // along each axis (the global covariance there is diagonal)
 };
+// (with the dense solver)
 FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims);
-// The same with `threads` worker threads (0 = all cores); the result does not depend on it.
-FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads);
+// The same with `threads` worker threads (0 = all cores; the result does not depend on it) and
+// the given solver.
+FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threads,
+                            PcaSolver solver);
 // A block of feature columns [start, start + size) and the weight it should carry.
 struct FeatureBlock {
   int start = 0, size = 0;
