@@ -530,6 +530,8 @@ void normals_row(const Eigen::Vector3f* xyz, const float* mask, const Eigen::Vec
   }
 }
 
+}  // namespace
+
 std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params,
                                            int threads) {
   const Eigen::Vector3f nan = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
@@ -584,12 +586,6 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   for (int v = 0; v < h; ++v)
     normals_row(frame.xyz.data(), mask.ptr<float>(0), smooth, w, h, s, v, normals.data());
   return normals;
-}
-
-}  // namespace
-
-std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params) {
-  return point_normals(frame, params, 0);
 }
 
 Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,

@@ -13,6 +13,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 namespace proxseg {
 namespace {
@@ -419,41 +420,65 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
 
 }  // namespace
 
-Selection select_candidates_on_grid(const Frame& frame,
-                                    const std::vector<std::uint32_t>& point_labels,
-                                    const SelectionParams& params, int threads) {
-  if (!frame.organized()) throw std::invalid_argument("select_candidates_on_grid: unorganized");
+GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
+                           const SelectionParams& params, int threads) {
+  if (!frame.organized()) throw std::invalid_argument("grid_surfaces: unorganized frame");
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
   const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
-  Selection s;
-  s.instance.assign(frame.size(), 0);
-
+  GridSurfaces out;
   FeatureParams normal_params;
   normal_params.normal_step = params.image_normal_step;
-  const std::vector<Eigen::Vector3f> normals = point_normals(frame, normal_params);
+  out.normals = point_normals(frame, normal_params, nthreads);
 
   // The support plane first: what lies in it within the sensor's noise is background.
   SupportPlane support;
   if (params.cut_support_plane)
-    support = support_plane(grid, normals, params);
+    support = support_plane(grid, out.normals, params);
   else
     support.in_plane.assign(frame.size(), 0);
-  const std::vector<char>& in_plane = support.in_plane;
   // Surfaces: what no depth step or concave crease separates.
-  const std::vector<char> crease = params.split_concave ? concave_pixels(grid, normals, params)
-                                                        : std::vector<char>(frame.size(), 0);
+  out.crease = params.split_concave ? concave_pixels(grid, out.normals, params)
+                                    : std::vector<char>(frame.size(), 0);
   std::vector<char> open(frame.size(), 0);
   for (std::size_t p = 0; p < frame.size(); ++p)
-    open[p] = frame.valid(p) && point_labels[p] != 0 && !in_plane[p] && !crease[p];
-  int count = 0;
-  std::vector<int> comp = components(grid, open, count);
-  s.clusters = count;
+    open[p] = frame.valid(p) && labelled[p] && !support.in_plane[p] && !out.crease[p];
+  out.surface = components(grid, open, out.count);
   for (std::size_t p = 0; p < frame.size(); ++p)
-    if (in_plane[p] && point_labels[p] != 0) comp[p] = kPlane;
-  fill(grid, comp);
-  if (params.absorb_small) absorb_small(grid, support, params, count, false, comp);
+    if (support.in_plane[p] && labelled[p]) out.surface[p] = kPlane;
+  fill(grid, out.surface);
+  if (params.absorb_small) absorb_small(grid, support, params, out.count, false, out.surface);
+  out.plane_found = support.found;
+  out.plane_normal = support.plane.normal;
+  out.plane_offset = support.plane.offset;
+  out.in_plane = std::move(support.in_plane);
+  return out;
+}
+
+Selection select_candidates_on_grid(const Frame& frame,
+                                    const std::vector<std::uint32_t>& point_labels,
+                                    const SelectionParams& params, int threads) {
+  std::vector<char> labelled(frame.size(), 0);
+  for (std::size_t p = 0; p < frame.size(); ++p) labelled[p] = point_labels[p] != 0;
+  return select_on_grid(frame, grid_surfaces(frame, labelled, params, threads), point_labels,
+                        params);
+}
+
+Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
+                         const std::vector<std::uint32_t>& point_labels,
+                         const SelectionParams& params) {
+  const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), 1);
+  SupportPlane support;
+  support.found = surfaces.plane_found;
+  support.plane = {surfaces.plane_normal, surfaces.plane_offset};
+  support.in_plane = std::move(surfaces.in_plane);
+  std::vector<int>& comp = surfaces.surface;
+  const int count = surfaces.count;
+  Selection s;
+  s.instance.assign(frame.size(), 0);
+  s.clusters = count;
   if (params.merge_convex)
-    merge_convex_links(grid, normals, crease, support, point_labels, params, count, comp);
+    merge_convex_links(grid, surfaces.normals, surfaces.crease, support, point_labels, params,
+                       count, comp);
   if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
 
   // Instances in the order of their first pixel; the plane is one background instance.

@@ -1,11 +1,9 @@
 // MRF refinement [paper 3.2, eq. 1-3]: Potts energy minimised by alpha-beta swap (Boykov, Veksler,
-// Zabih 2001) or alpha-expansion (Kolmogorov, Zabih 2004 construction) on Boost's
-// Boykov-Kolmogorov max-flow.
+// Zabih 2001) or alpha-expansion (Kolmogorov, Zabih 2004 construction) on a Boykov-Kolmogorov
+// max-flow (src/maxflow.hpp).
 #include <proxseg/mrf.hpp>
 
-#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
-#include <boost/graph/compressed_sparse_row_graph.hpp>
-#include <boost/property_map/property_map.hpp>
+#include "maxflow.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,22 +20,12 @@ namespace {
 // Smallest value of 1 - d/sum(d) before the logarithm; keeps psi large but finite.
 constexpr double kMinOneMinusRatio = 1e-9;
 
-// A binary s-t cut problem over m inner nodes, solved with boost::boykov_kolmogorov_max_flow on a
-// compressed sparse row graph. Buffers are members so repeated moves reuse their storage.
-// Node i on the source side pays cap_sink[i] (its i->t arc is cut), on the sink side
-// cap_source[i]; an edge (i, j) with capacities (c_ij, c_ji) costs c_ij when i is on the source
-// side and j on the sink side, c_ji in the opposite case.
+// A binary s-t cut problem over m inner nodes, solved by MaxFlow (src/maxflow.hpp), whose
+// buffers are reused by every move. Node i on the source side pays cap_sink[i] (its i->t arc is
+// cut), on the sink side cap_source[i]; an edge (i, j) with capacities (c_ij, c_ji) costs c_ij
+// when i is on the source side and j on the sink side, c_ji in the opposite case.
 class BinaryCut {
  public:
-  // 32-bit vertex and arc indices keep the descriptors small (the maps are read in BK's inner
-  // loops).
-  using Graph =
-      boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, boost::no_property,
-                                         boost::no_property, std::uint32_t, std::uint32_t>;
-  using Vertex = boost::graph_traits<Graph>::vertex_descriptor;
-  using Edge = boost::graph_traits<Graph>::edge_descriptor;
-  using Cap = std::int64_t;
-
   void reset(int m) {
     m_ = m;
     cap_source_.assign(static_cast<std::size_t>(m), 0.0);
@@ -52,86 +40,32 @@ class BinaryCut {
     edges_.push_back({i, j, cap_ij, cap_ji});
   }
 
-  // Runs the max-flow; afterwards on_source_side(i) tells the side of node i in the minimum cut.
+  // Runs the max-flow; afterwards on_source_side(i) tells the side of node i in the minimum cut
+  // (the smallest source side, whatever the order of augmentation).
   void solve() {
-    const std::size_t m = static_cast<std::size_t>(m_);
-    const std::size_t nv = m + 2;
-    const Vertex src = m, snk = m + 1;
-    // Arc layout, sorted by source vertex as the CSR constructor requires:
-    //   node i: [i->t, i->s, edge arcs...], then source: s->0..s->m-1, then sink: t->0..t->m-1.
-    // i->t comes first because BK looks it up with a linear scan of i's out-arcs.
-    offset_.assign(nv + 1, 0);
-    for (std::size_t i = 0; i < m; ++i) offset_[i + 1] = 2;
-    for (const auto& e : edges_) {
-      ++offset_[static_cast<std::size_t>(e.i) + 1];
-      ++offset_[static_cast<std::size_t>(e.j) + 1];
-    }
-    offset_[m + 1] = m;  // source out-arcs
-    offset_[m + 2] = m;  // sink out-arcs
-    for (std::size_t v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
-    const std::size_t na = offset_[nv];
-
     // Integer capacities: with doubles, rounding leaves tiny positive residuals on arcs that should
-    // be saturated and BK then spends most of its time pushing ~1e-16 of flow around. Every flow
-    // and residual value is bounded by the sum of all capacities, which is mapped to 2^52 (so the
-    // cut is exact up to ~1e-16 of the total; moves are accepted on the exact energy anyway).
+    // be saturated and the search then spends most of its time pushing ~1e-16 of flow around.
+    // Every flow and residual value is bounded by the sum of all capacities, which is mapped to
+    // 2^52 (so the cut is exact up to ~1e-16 of the total; moves are accepted on the exact energy
+    // anyway).
     double total = 0;
-    for (std::size_t i = 0; i < m; ++i) total += cap_source_[i] + cap_sink_[i];
+    for (int i = 0; i < m_; ++i) total += cap_source_[i] + cap_sink_[i];
     for (const auto& e : edges_) total += e.cap_ij + e.cap_ji;
     const double scale = total > 0 ? std::min(4503599627370496.0 / total, 1e300) : 1.0;
     // std::llround for 0 <= c * scale <= 2^52, where the fraction x - trunc(x) is exact, without
     // the library call (a tenth of the MRF's instructions).
     auto quantize = [scale](double c) {
       const double x = c * scale;
-      const Cap t = static_cast<Cap>(x);
+      const MaxFlow::Cap t = static_cast<MaxFlow::Cap>(x);
       return t + (x - static_cast<double>(t) >= 0.5);
     };
-
-    arcs_.resize(na);
-    cap_.resize(na);
-    rev_index_.resize(na);
-    fill_.assign(offset_.begin(), offset_.end() - 1);
-    auto put_arc = [&](std::size_t a, Vertex from, Vertex to, double c, std::size_t r) {
-      arcs_[a] = {from, to};
-      cap_[a] = quantize(c);
-      rev_index_[a] = r;
-    };
-    for (std::size_t i = 0; i < m; ++i) {
-      const std::size_t to_t = offset_[i], to_s = offset_[i] + 1;
-      const std::size_t from_s = offset_[m] + i, from_t = offset_[m + 1] + i;
-      put_arc(to_t, i, snk, cap_sink_[i], from_t);
-      put_arc(from_t, snk, i, 0.0, to_t);
-      put_arc(from_s, src, i, cap_source_[i], to_s);
-      put_arc(to_s, i, src, 0.0, from_s);
-      fill_[i] += 2;
-    }
-    for (const auto& e : edges_) {
-      const std::size_t i = static_cast<std::size_t>(e.i), j = static_cast<std::size_t>(e.j);
-      const std::size_t a = fill_[i]++, b = fill_[j]++;
-      put_arc(a, i, j, e.cap_ij, b);
-      put_arc(b, j, i, e.cap_ji, a);
-    }
-
-    Graph g(boost::edges_are_sorted, arcs_.begin(), arcs_.end(), nv);
-    rev_.resize(na);
-    for (std::size_t a = 0; a < na; ++a) rev_[a] = Edge(arcs_[rev_index_[a]].first, rev_index_[a]);
-    res_.assign(na, 0);
-    pred_.assign(nv, Edge());
-    color_.assign(nv, boost::white_color);
-    dist_.assign(nv, 0);
-
-    const auto eidx = boost::get(boost::edge_index, g);
-    const auto vidx = boost::get(boost::vertex_index, g);
-    boost::boykov_kolmogorov_max_flow(g, boost::make_iterator_property_map(cap_.begin(), eidx),
-                                      boost::make_iterator_property_map(res_.begin(), eidx),
-                                      boost::make_iterator_property_map(rev_.begin(), eidx),
-                                      boost::make_iterator_property_map(pred_.begin(), vidx),
-                                      boost::make_iterator_property_map(color_.begin(), vidx),
-                                      boost::make_iterator_property_map(dist_.begin(), vidx), vidx,
-                                      src, snk);
-    source_color_ = color_[src];
+    flow_.reset(m_);
+    for (int i = 0; i < m_; ++i)
+      flow_.set_terminals(i, quantize(cap_source_[i]), quantize(cap_sink_[i]));
+    for (const auto& e : edges_) flow_.add_edge(e.i, e.j, quantize(e.cap_ij), quantize(e.cap_ji));
+    flow_.solve();
   }
-  bool on_source_side(int i) const { return color_[static_cast<std::size_t>(i)] == source_color_; }
+  bool on_source_side(int i) const { return flow_.on_source_side(i); }
 
  private:
   struct PairEdge {
@@ -141,13 +75,7 @@ class BinaryCut {
   int m_ = 0;
   std::vector<double> cap_source_, cap_sink_;
   std::vector<PairEdge> edges_;
-  std::vector<std::size_t> offset_, fill_, rev_index_;
-  std::vector<std::pair<Vertex, Vertex>> arcs_;
-  std::vector<Cap> cap_, res_;
-  std::vector<Edge> rev_, pred_;
-  std::vector<boost::default_color_type> color_;
-  std::vector<std::uint32_t> dist_;
-  boost::default_color_type source_color_ = boost::black_color;
+  MaxFlow flow_;
 };
 
 void validate(const MrfProblem& problem, const std::vector<int>& labels) {

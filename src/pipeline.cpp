@@ -4,7 +4,10 @@
 
 #include <open3d/geometry/KDTreeFlann.h>
 
+#include <omp.h>
+
 #include <chrono>
+#include <future>
 
 namespace proxseg {
 namespace {
@@ -46,6 +49,13 @@ std::vector<int> label_sources(const Frame& frame, const VoxelGrid& grid,
   return source;
 }
 
+// Whether each point has a voxel: exactly the points that get a label in step 6.
+std::vector<char> voxelised(const VoxelGrid& grid) {
+  std::vector<char> out(grid.voxel_of_point.size());
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = grid.voxel_of_point[p] >= 0;
+  return out;
+}
+
 // Every valid point takes the label of its voxel's source (label_sources): 1..k, 0 for invalid
 // points.
 std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
@@ -73,6 +83,21 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
   r.times_ms.emplace_back("voxels", watch.lap());
+
+  // The image-grid geometry of the selection (7) needs only the frame: with a second core it is
+  // read on its own thread while stages 2-6 compute the colour labels.
+  const bool on_grid =
+      params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
+  const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  double surfaces_ms = 0;
+  std::future<GridSurfaces> surfaces;
+  if (on_grid)
+    surfaces = std::async(nthreads > 1 ? std::launch::async : std::launch::deferred, [&] {
+      Stopwatch own;
+      GridSurfaces g = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
+      surfaces_ms = own.lap();
+      return g;
+    });
 
   // 2. Features [3.1]: colour | texture | shape per voxel.
   r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
@@ -126,11 +151,10 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
-  r.selection =
-      params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized()
-          ? select_candidates_on_grid(frame, r.point_labels, params.selection, params.threads)
-          : select_candidates(frame, r.voxels, r.point_labels, params.selection);
+  r.selection = on_grid ? select_on_grid(frame, surfaces.get(), r.point_labels, params.selection)
+                        : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
+  if (on_grid) r.times_ms.emplace_back("grid_surfaces (beside 2-6)", surfaces_ms);
   return r;
 }
 

@@ -2,12 +2,16 @@
 // alpha-beta swap / alpha-expansion minimisers.
 #include <proxseg/mrf.hpp>
 
+#include "../src/maxflow.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <queue>
 #include <random>
 #include <set>
 #include <vector>
@@ -95,6 +99,68 @@ bool expansion_optimal(const MrfProblem& p, const std::vector<int>& labels) {
 
 // ---------------------------------------------------------------------------------------------
 // 1. Unary potentials
+
+// The max-flow behind the moves against Edmonds-Karp (shortest augmenting paths on a dense
+// residual matrix): the same flow value, and the same source side, which must be what the source
+// reaches in the residual graph (the smallest minimum cut, unique whatever the flow). Small
+// integer capacities make many minimum cuts tie.
+TEST(MaxFlow, SameFlowAndSmallestCutAsEdmondsKarp) {
+  std::mt19937 rng(7);
+  MaxFlow solver;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int m = 2 + trial % 40;
+    const int s = m, t = m + 1, nv = m + 2;
+    std::vector<std::vector<long>> cap(nv, std::vector<long>(nv, 0));
+    std::uniform_int_distribution<int> c(0, trial % 3 == 0 ? 3 : 20), node(0, m - 1);
+    solver.reset(m);
+    for (int i = 0; i < m; ++i) {
+      const long from_s = c(rng) * (rng() % 3 == 0), to_t = c(rng) * (rng() % 3 == 0);
+      solver.set_terminals(i, from_s, to_t);
+      cap[s][i] += from_s;
+      cap[i][t] += to_t;
+    }
+    for (int e = 0; e < 3 * m; ++e) {
+      const int i = node(rng), j = node(rng);
+      if (i == j) continue;
+      const long a = c(rng), b = c(rng);
+      solver.add_edge(i, j, a, b);
+      cap[i][j] += a;
+      cap[j][i] += b;
+    }
+    const long flow = solver.solve();
+    // Edmonds-Karp.
+    long expected = 0;
+    for (;;) {
+      std::vector<int> prev(nv, -1);
+      prev[s] = s;
+      std::queue<int> q;
+      q.push(s);
+      while (!q.empty() && prev[t] < 0) {
+        const int u = q.front();
+        q.pop();
+        for (int v = 0; v < nv; ++v)
+          if (prev[v] < 0 && cap[u][v] > 0) prev[v] = u, q.push(v);
+      }
+      if (prev[t] < 0) break;
+      long b = std::numeric_limits<long>::max();
+      for (int v = t; v != s; v = prev[v]) b = std::min(b, cap[prev[v]][v]);
+      for (int v = t; v != s; v = prev[v]) cap[prev[v]][v] -= b, cap[v][prev[v]] += b;
+      expected += b;
+    }
+    ASSERT_EQ(flow, expected) << "trial " << trial;
+    std::vector<char> reached(nv, 0);
+    std::vector<int> stack{s};
+    reached[s] = 1;
+    while (!stack.empty()) {
+      const int u = stack.back();
+      stack.pop_back();
+      for (int v = 0; v < nv; ++v)
+        if (!reached[v] && cap[u][v] > 0) reached[v] = 1, stack.push_back(v);
+    }
+    for (int i = 0; i < m; ++i)
+      ASSERT_EQ(solver.on_source_side(i), reached[i] != 0) << "trial " << trial << " node " << i;
+  }
+}
 
 TEST(UnaryPotentials, NearerCentroidHasLowerPotential) {
   Eigen::MatrixXd c(3, 2);

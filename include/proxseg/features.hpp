@@ -26,8 +26,8 @@ struct FeatureParams {
   // level and interpolated to full resolution: 1 = every pixel (the paper); 2 = a quarter of the
   // inverse DFTs, with the same object F (docs/method.md, Speed).
   int gabor_stride = 2;
-  int normal_step = 3;                  // organized clouds: pixel offset of the central differences
-  int normal_knn = 20;                  // unorganized clouds: neighbours for PCA normals
+  int normal_step = 3;  // organized clouds: pixel offset of the central differences
+  int normal_knn = 20;  // unorganized clouds: neighbours for PCA normals
 };
 
 // Colour block of one voxel from its points' colours.
@@ -50,7 +50,9 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params);
 Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& pixels);
 
 // Unit normals per point, oriented towards the sensor (origin); NaN for invalid points.
-std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params);
+// threads: 0 = all cores; the result does not depend on it.
+std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params,
+                                           int threads = 0);
 
 // Feature matrix: one row per voxel of `voxels`, kFeatureDims columns, block weights applied.
 Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,

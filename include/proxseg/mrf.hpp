@@ -45,7 +45,7 @@ struct MrfResult {
   std::vector<double> energy_trace;  // energy after every accepted move
 };
 
-// Alpha-beta swap moves (Boykov, Veksler, Zabih 2001) on Boost's Boykov-Kolmogorov max-flow,
+// Alpha-beta swap moves (Boykov, Veksler, Zabih 2001) on a Boykov-Kolmogorov max-flow,
 // repeated over all label pairs until no swap lowers E.
 MrfResult alpha_beta_swap(const MrfProblem& problem, std::vector<int> labels, int max_cycles);
 // Alpha-expansion moves, same contract.
