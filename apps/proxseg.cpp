@@ -3,6 +3,7 @@
 #include <proxseg/clutter.hpp>
 #include <proxseg/evaluation.hpp>
 #include <proxseg/io.hpp>
+#include <proxseg/memory.hpp>
 #include <proxseg/output.hpp>
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
@@ -530,6 +531,7 @@ int run_eval(const EvalOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
   CLI::App app{"proxseg: unsupervised RGB-D segmentation and object recognition"};
   app.require_subcommand(1);
   SegmentCommand segment;
@@ -554,16 +556,18 @@ int main(int argc, char** argv) {
       "A seeded cluttered tabletop instead (5-15 LINEMOD meshes, boxes, cylinders; standing, "
       "lying, touching, stacked, leaning; docs/clutter.md); --seed then seeds the whole scene");
   auto* count_opt =
-      synth_cmd->add_option("--count", synth.count,
-                            "With --clutter: write N scenes, seeds --first-seed.., to the folder "
-                            "-o as clutter-SSS.pcd")
+      synth_cmd
+          ->add_option("--count", synth.count,
+                       "With --clutter: write N scenes, seeds --first-seed.., to the folder "
+                       "-o as clutter-SSS.pcd")
           ->check(CLI::Range(1u, 1000000u))
           ->needs(clutter_flag);
   synth_cmd->add_option("--first-seed", synth.first_seed, "With --count: the first seed (1)")
       ->needs(count_opt);
-  synth_cmd->add_option("--models", synth.models,
-                        "With --clutter: folder of LINEMOD obj_*.ply meshes in mm (default "
-                        "../shared/data/lmo/models if present, else boxes and cylinders only)")
+  synth_cmd
+      ->add_option("--models", synth.models,
+                   "With --clutter: folder of LINEMOD obj_*.ply meshes in mm (default "
+                   "../shared/data/lmo/models if present, else boxes and cylinders only)")
       ->needs(clutter_flag);
   count_opt->excludes(synth_cmd->get_option("--seed"));
   try {

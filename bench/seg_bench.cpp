@@ -2,28 +2,44 @@
 // the PCL peers (LCCP, colour region growing, plane + Euclidean clusters) on the same labelled
 // scenes in the same run, each timed per frame; writes docs/results.md (the segmentation part) and
 // a per-scene CSV. A second set of labelled scenes (the generated clutter set) can be evaluated in
-// the same run: every table then has it beside mOSD learn.
+// the same run: every table then has it beside mOSD learn. Whole-process wall time: the first
+// --process-scenes scenes of each set through `proxseg segment` and bench/lccp_process.cpp (the
+// same LCCP as a plain PCL program) as child processes, one process per frame and one per set.
 // Usage: seg_bench --data DIR [--clutter DIR] [--out results.md] [--csv scenes.csv] [--scenes N]
 //                  [--threads T] [--methods "proxseg default,PCL LCCP"]
-//                  [--config NAME=file.json]...
+//                  [--config NAME=file.json]... [--process-scenes N] [--proxseg PATH]
+//                  [--lccp-process PATH]
 #include "bench_util.hpp"
 #include "peers_pcl.hpp"
 
 #include <proxseg/evaluation.hpp>
 #include <proxseg/io.hpp>
+#include <proxseg/memory.hpp>
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 namespace {
 
@@ -72,16 +88,83 @@ std::vector<std::string> split_list(const std::string& s) {
 struct SceneSet {
   std::string name;  // "mOSD learn", "clutter"
   std::vector<std::filesystem::path> files;
-  int done = 0;  // labelled scenes evaluated
+  int done = 0;     // labelled scenes evaluated
+  std::string dir;  // the folder
 };
+
+// Runs args[0] with args (no shell), stdin, stdout and stderr on /dev/null, and waits for it.
+// Returns the wall time from spawn to exit in seconds; std::runtime_error if it cannot start or
+// exits other than with `expected_exit`.
+double run_process(const std::vector<std::string>& args, int expected_exit = 0) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  const int err = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (err != 0) throw std::runtime_error(args[0] + ": cannot start (" + std::strerror(err) + ")");
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw std::runtime_error(args[0] + ": waitpid: " + std::strerror(errno));
+  const double s = seconds_since(start);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != expected_exit) {
+    std::string cmd;
+    for (const auto& a : args) cmd += (cmd.empty() ? "" : " ") + a;
+    throw std::runtime_error(
+        cmd + (WIFEXITED(status) ? ": exit status " + std::to_string(WEXITSTATUS(status))
+                                 : ": killed by signal " + std::to_string(WTERMSIG(status))));
+  }
+  return s;
+}
+
+// A fresh directory under the system's temporary directory, removed with everything in it.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    std::string t = (std::filesystem::temp_directory_path() / "seg_bench-XXXXXX").string();
+    if (!mkdtemp(t.data())) throw std::runtime_error(t + ": " + std::strerror(errno));
+    path = t;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+// Whole-process seconds per frame of one set and mode, for proxseg and lccp_process.
+struct ProcessTimes {
+  std::string set, mode;
+  int frames = 0;
+  double proxseg = 0, lccp = 0;  // sums of wall seconds
+};
+
+// The directory of this executable (/proc/self/exe; argv[0] when that is unavailable).
+std::filesystem::path own_dir(const char* argv0) {
+  std::error_code ec;
+  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) exe = std::filesystem::absolute(argv0, ec);
+  return exe.parent_path();
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The same allocator settings for every method of this process (proxseg's CLI sets them too).
+  proxseg::keep_freed_memory();
   CLI::App app{"proxseg segmentation benchmark against PCL's segmenters"};
   std::string data, clutter, out, csv, methods_arg;
   std::vector<std::string> configs;
-  int limit = 0, threads = 0;
+  int limit = 0, threads = 0, process_scenes = 10;
+  std::string proxseg_cli = (own_dir(argv[0]).parent_path() / "proxseg").string();
+  std::string lccp_process = (own_dir(argv[0]) / "lccp_process").string();
   app.add_option("--data", data, "Folder of labelled mOSD scenes")->required();
   app.add_option("--clutter", clutter,
                  "Second folder of labelled scenes (the clutter set of `proxseg synth --clutter`), "
@@ -96,7 +179,22 @@ int main(int argc, char** argv) {
   app.add_option("--config", configs,
                  "NAME=file.json: a proxseg variant \"proxseg NAME\", the file read on top of "
                  "preset default (repeatable)");
+  app.add_option("--process-scenes", process_scenes,
+                 "Whole-process wall time on the first N scenes of each set (0 = skip)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--proxseg", proxseg_cli, "The proxseg CLI for the whole-process times")
+      ->capture_default_str();
+  app.add_option("--lccp-process", lccp_process,
+                 "bench/lccp_process for the whole-process times (PCL LCCP as its own program)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (process_scenes > 0)
+    for (const std::string& tool : {proxseg_cli, lccp_process})
+      if (access(tool.c_str(), X_OK) != 0) {
+        std::cerr << "seg_bench: " << tool << ": not an executable (build the targets proxseg_cli "
+                  << "and lccp_process, give --proxseg / --lccp-process, or --process-scenes 0)\n";
+        return 2;
+      }
 
   // proxseg variants: short name -> parameters, in report order.
   std::vector<std::pair<std::string, proxseg::SegmentParams>> variants = {
@@ -128,6 +226,8 @@ int main(int argc, char** argv) {
   std::map<std::string, std::map<std::string, double>> stage_ms;  // variant -> stage -> sum
   std::map<std::string, int> stage_frames;                        // variant -> frames timed
   std::vector<std::string> stages;                                // in pipeline order
+  std::vector<std::string> concurrent;  // stages on their own thread, not in the sequence
+  const std::string kTotal = "total (segment() wall time)";
   // set -> "variant k-means" / "variant k-means+MRF" -> sums
   std::map<std::string, std::map<std::string, Table1>> table1;
   std::string current_set;
@@ -142,6 +242,13 @@ int main(int argc, char** argv) {
         stage_ms[name][stage] += ms;
         if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
       }
+      for (const auto& [stage, ms] : r.concurrent_ms) {
+        const std::string row = stage + " (own thread, beside features .. MRF)";
+        stage_ms[name][row] += ms;
+        if (std::find(concurrent.begin(), concurrent.end(), row) == concurrent.end())
+          concurrent.push_back(row);
+      }
+      stage_ms[name][kTotal] += r.total_ms;
       ++stage_frames[name];
       const auto truth = proxseg::truth_objects(f);
       const auto km = proxseg::score_segmentation(truth, r.point_labels_kmeans, {1});
@@ -191,8 +298,8 @@ int main(int argc, char** argv) {
 
   std::vector<SceneSet> sets;
   try {
-    sets.push_back({"mOSD learn", scenes_of(data, limit)});
-    if (!clutter.empty()) sets.push_back({"clutter", scenes_of(clutter, limit)});
+    sets.push_back({"mOSD learn", scenes_of(data, limit), 0, data});
+    if (!clutter.empty()) sets.push_back({"clutter", scenes_of(clutter, limit), 0, clutter});
   } catch (const proxseg::InputError& e) {
     std::cerr << "seg_bench: " << e.what() << "\n";
     return 1;
@@ -244,6 +351,96 @@ int main(int argc, char** argv) {
   int done = 0;
   for (const auto& set : sets) done += set.done;
 
+  // Whole-process wall time: each tool as its own process (read the PCD, segment, write the
+  // outputs), timed from spawn to exit; outputs go to a temporary directory removed at the end.
+  std::vector<ProcessTimes> process_times;
+  double startup_proxseg = 0, startup_lccp = 0;
+  if (process_scenes > 0) {
+    try {
+      const TempDir tmp;
+      const std::vector<std::string> thread_args =
+          threads > 0 ? std::vector<std::string>{"--threads", std::to_string(threads)}
+                      : std::vector<std::string>{};
+      auto proxseg_one = [&](const std::filesystem::path& scene, const std::string& prefix) {
+        std::vector<std::string> args = {proxseg_cli, "segment", scene.string(), "-o", prefix};
+        args.insert(args.end(), thread_args.begin(), thread_args.end());
+        return run_process(args);
+      };
+      auto clear = [&] {
+        for (const auto& e : std::filesystem::directory_iterator(tmp.path))
+          std::filesystem::remove_all(e.path());
+      };
+      // Start-up alone: the help text, and lccp_process without arguments (usage, exit 2).
+      for (int i = 0; i < 5; ++i) {
+        startup_proxseg += run_process({proxseg_cli, "--help"}) / 5;
+        startup_lccp += run_process({lccp_process}, 2) / 5;
+      }
+      for (std::size_t si = 0; si < sets.size(); ++si) {
+        std::vector<std::filesystem::path> files = proxseg::scene_files(sets[si].dir);
+        if (static_cast<int>(files.size()) > process_scenes) files.resize(process_scenes);
+        const int n = static_cast<int>(files.size());
+        // Both tools find the files in the page cache: each is read once first.
+        for (const auto& f : files)
+          std::ifstream(f, std::ios::binary).ignore(std::numeric_limits<std::streamsize>::max());
+        // One untimed run of each.
+        proxseg_one(files.front(), (tmp.path / "warm").string());
+        run_process({lccp_process, files.front().string(), "-o", tmp.path.string()});
+        clear();
+
+        ProcessTimes single{sets[si].name, "one process per frame", n};
+        for (int i = 0; i < n; ++i) {
+          const auto& f = files[i];
+          auto run_proxseg = [&] {
+            single.proxseg += proxseg_one(f, (tmp.path / ("p-" + f.stem().string())).string());
+          };
+          auto run_lccp = [&] {
+            single.lccp += run_process({lccp_process, f.string(), "-o", tmp.path.string()});
+          };
+          if (i % 2 == 0) {  // alternating which tool goes first
+            run_proxseg();
+            run_lccp();
+          } else {
+            run_lccp();
+            run_proxseg();
+          }
+          clear();
+          std::cerr << "[process " << i + 1 << "/" << n << "] " << sets[si].name << ": "
+                    << f.filename().string() << " proxseg " << fmt(single.proxseg / (i + 1))
+                    << " s, lccp_process " << fmt(single.lccp / (i + 1)) << " s per frame\n";
+        }
+        process_times.push_back(single);
+
+        // One process for the n frames: proxseg's --batch takes a folder, so a folder of links.
+        ProcessTimes batch{sets[si].name, "one process for " + std::to_string(n) + " frames", n};
+        const std::filesystem::path in = tmp.path / "in";
+        std::filesystem::create_directory(in);
+        std::vector<std::string> lccp_args = {lccp_process};
+        for (const auto& f : files) {
+          std::filesystem::create_symlink(std::filesystem::absolute(f), in / f.filename());
+          lccp_args.push_back(f.string());
+        }
+        lccp_args.insert(lccp_args.end(), {"-o", (tmp.path / "l-batch").string()});
+        std::vector<std::string> proxseg_args = {
+            proxseg_cli, "segment", "--batch", in.string(), "-o", (tmp.path / "p-batch").string()};
+        proxseg_args.insert(proxseg_args.end(), thread_args.begin(), thread_args.end());
+        if (si % 2 == 0) {
+          batch.proxseg = run_process(proxseg_args);
+          batch.lccp = run_process(lccp_args);
+        } else {
+          batch.lccp = run_process(lccp_args);
+          batch.proxseg = run_process(proxseg_args);
+        }
+        clear();
+        std::cerr << "[process batch] " << sets[si].name << ": proxseg " << fmt(batch.proxseg / n)
+                  << " s, lccp_process " << fmt(batch.lccp / n) << " s per frame\n";
+        process_times.push_back(batch);
+      }
+    } catch (const std::exception& e) {  // a tool failed, or the temporary directory
+      std::cerr << "seg_bench: whole-process timing: " << e.what() << "\n";
+      return 1;
+    }
+  }
+
   std::ostringstream md;
   md << "## Segmentation (";
   for (std::size_t i = 0; i < sets.size(); ++i)
@@ -285,6 +482,63 @@ int main(int argc, char** argv) {
                << fmt(r.objects.v.v) << " | " << fmt(r.objects.weighted_overlap) << " | "
                << fmt(r.objects.lost_in_background_share) << " | " << fmt(r.seconds) << " |\n";
   }
+  // Algorithm time against LCCP (the acceptance: at most half of LCCP's time per frame).
+  const auto mean_seconds = [](const std::vector<proxseg::SummaryRow>& rs, const std::string& m) {
+    for (const auto& r : rs)
+      if (r.category == "all" && r.method == m) return r.seconds;
+    return 0.0;
+  };
+  if (mean_seconds(rows, "proxseg default") > 0 && mean_seconds(rows, "PCL LCCP") > 0) {
+    md << "\n### Algorithm time against LCCP (in process, s/frame)\n\n"
+       << "proxseg's segment() (preset default) and the PCL LCCP peer on the same frames in "
+          "memory, reading and writing excluded.\n\n"
+       << "| set | scenes | proxseg default | PCL LCCP | proxseg / LCCP |\n|---|---|---|---|---|\n";
+    std::vector<std::pair<std::string, std::vector<proxseg::SummaryRow>>> per_set;
+    for (const auto& set : sets)
+      per_set.emplace_back(set.name, proxseg::summarize(scores_of_set[set.name]));
+    if (sets.size() > 1) per_set.emplace_back("both sets", rows);
+    for (const auto& [name, rs] : per_set) {
+      const double p = mean_seconds(rs, "proxseg default"), l = mean_seconds(rs, "PCL LCCP");
+      int n = 0;
+      for (const auto& r : rs)
+        if (r.category == "all" && r.method == "PCL LCCP") n = r.scenes;
+      md << "| " << name << " | " << n << " | " << fmt(p) << " | " << fmt(l) << " | "
+         << (l > 0 ? fmt(p / l, 2) : "-") << " |\n";
+    }
+  }
+  if (!process_times.empty()) {
+    md << "\n### Whole-process wall time per frame\n\n"
+       << "Each process reads the PCD, segments it and writes its outputs: `proxseg segment` "
+          "(preset default) writes the labelled PCD, the PNG picture and the JSON report; "
+          "`lccp_process` (bench/lccp_process.cpp, PCL only: the PCL LCCP above, same parameters "
+          "and labels) writes a labelled PCD. Wall time from spawn to exit (posix_spawn + "
+          "waitpid), on the first "
+       << process_scenes
+       << " scenes of each set (files already in the page cache), after one untimed run of "
+          "each; one process per frame alternates which tool goes first. Start-up alone (mean "
+          "of 5): `proxseg --help` "
+       << fmt(startup_proxseg) << " s, `lccp_process` without arguments " << fmt(startup_lccp)
+       << " s.\n\n"
+       << "| set | mode | proxseg s/frame | LCCP s/frame | proxseg / LCCP |\n"
+       << "|---|---|---|---|---|\n";
+    std::vector<ProcessTimes> table = process_times;
+    if (sets.size() > 1)
+      for (const bool single : {true, false}) {
+        ProcessTimes both{"both sets", single ? "one process per frame" : "one process per set"};
+        for (const auto& t : process_times)
+          if ((t.mode == "one process per frame") == single) {
+            both.frames += t.frames;
+            both.proxseg += t.proxseg;
+            both.lccp += t.lccp;
+          }
+        table.push_back(both);
+      }
+    for (const auto& t : table) {
+      const double p = t.proxseg / std::max(1, t.frames), l = t.lccp / std::max(1, t.frames);
+      md << "| " << t.set << " | " << t.mode << " | " << fmt(p) << " | " << fmt(l) << " | "
+         << (l > 0 ? fmt(p / l, 2) : "-") << " |\n";
+    }
+  }
   if (!run_variants.empty()) {
     md << "\n### The paper's Table 1 protocol (raw labels, before selection)\n\n"
        << "Each predicted label mapped to the ground-truth region holding most of its points; "
@@ -311,19 +565,15 @@ int main(int argc, char** argv) {
     md << "\n|---|";
     for (std::size_t i = 0; i < run_variants.size(); ++i) md << "---|";
     md << "\n";
-    std::map<std::string, double> total;
-    for (const auto& stage : stages) {
+    std::vector<std::string> rows = stages;
+    rows.insert(rows.end(), concurrent.begin(), concurrent.end());
+    rows.push_back(kTotal);
+    for (const auto& stage : rows) {
       md << "| " << stage << " |";
-      for (const auto& v : run_variants) {
-        const double ms = stage_ms[v][stage] / std::max(1, stage_frames[v]);
-        total[v] += ms;
-        md << " " << fmt(ms, 1) << " |";
-      }
+      for (const auto& v : run_variants)
+        md << " " << fmt(stage_ms[v][stage] / std::max(1, stage_frames[v]), 1) << " |";
       md << "\n";
     }
-    md << "| total (in segment()) |";
-    for (const auto& v : run_variants) md << " " << fmt(total[v], 1) << " |";
-    md << "\n";
   }
   md << "\nPresets: `paper` = the paper's settings (w_c = 0.275, alpha-beta swap, 2 cm voxels, "
         "alpha = 0.85); `default` = the best measured settings (docs/method.md).";

@@ -332,11 +332,12 @@ struct TextureEdges {
     for (const float e : edge) b += m >= e;
     return b;
   }
-  // count[10 * row[t] + b] += 1 for each pixel pixels[t] in bin b. The pixels are taken four at
-  // a time: one 4-lane vector comparison per edge counts the edges each one reaches, which is
-  // its bin (GCC and Clang vector extensions; a true lane is -1).
+  // count[10 * row[t] + b] += weight[t] (1 without weights) for each pixel pixels[t] in bin b.
+  // The pixels are taken four at a time: one 4-lane vector comparison per edge counts the edges
+  // each one reaches, which is its bin (GCC and Clang vector extensions; a true lane is -1).
   void histograms(const float* magnitude, const std::vector<int>& pixels,
-                  const std::vector<int>& row, int* count) const {
+                  const std::vector<int>& row, const std::vector<int>* weight, int* count) const {
+    auto w = [weight](std::size_t t) { return weight ? (*weight)[t] : 1; };
     using Floats = float __attribute__((vector_size(16)));
     using Ints = int __attribute__((vector_size(16)));
     const Floats below = {exact_above, exact_above, exact_above, exact_above};
@@ -349,16 +350,18 @@ struct TextureEdges {
       const Ints compared = m < below;
       std::memcpy(inside, &compared, sizeof inside);
       if (!(inside[0] & inside[1] & inside[2] & inside[3])) {  // one needs the division
-        for (int lane = 0; lane < 4; ++lane) ++count[kHistogramBins * row[t + lane] + bin(m[lane])];
+        for (int lane = 0; lane < 4; ++lane)
+          count[kHistogramBins * row[t + lane] + bin(m[lane])] += w(t + lane);
         continue;
       }
       Ints reached = {};
       for (const float e : edge) reached -= m >= Floats{e, e, e, e};
       int b[4];
       std::memcpy(b, &reached, sizeof b);
-      for (int lane = 0; lane < 4; ++lane) ++count[kHistogramBins * row[t + lane] + b[lane]];
+      for (int lane = 0; lane < 4; ++lane)
+        count[kHistogramBins * row[t + lane] + b[lane]] += w(t + lane);
     }
-    for (; t < n; ++t) ++count[kHistogramBins * row[t] + bin(magnitude[pixels[t]])];
+    for (; t < n; ++t) count[kHistogramBins * row[t] + bin(magnitude[pixels[t]])] += w(t);
   }
 };
 
@@ -391,9 +394,19 @@ float order_statistic(std::vector<float>& values, std::size_t q, std::vector<flo
   return candidates[q - below];
 }
 
+// The grid the Gabor responses are given on: the frame's pixels at stride 1; at stride 2 the
+// half-resolution grid of 2 x 2 cells, cell (i, j) centred at pixel (2i + 1/2, 2j + 1/2), and a
+// pixel takes the response of its cell.
+struct ResponseGrid {
+  int width, height, stride;
+  ResponseGrid(const Frame& frame, int s)
+      : width((frame.width + s - 1) / s), height((frame.height + s - 1) / s), stride(s) {}
+  int cell(int u, int v) const { return v / stride * width + u / stride; }
+};
+
 // Runs the 24 Gabor filters of an organized frame on `threads` threads and sets their upper bin
 // edges; for each filter, the thread that computed it calls consume(filter, magnitude) with the
-// full-resolution magnitude image (width x height floats, valid during the call only). Every
+// magnitude image on the ResponseGrid of params.gabor_stride (valid during the call only). Every
 // filter is computed the same way whatever the thread, so the outputs do not depend on the
 // number of threads as long as `consume` writes only outputs of its filter. `side` is one more
 // independent task, run among the filters (OpenMP loops inside it run on that task's thread
@@ -420,13 +433,16 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
   upper_edge.assign(filters, 0.f);
   const std::size_t n = static_cast<std::size_t>(frame.width) * frame.height;
   std::vector<cv::Mat> spectra(kGaborScales);
-  // The pixels whose magnitudes set the bin edges: every 4th pixel, if valid.
+  const int stride = params.gabor_stride;
+  const ResponseGrid response(frame, stride);
+  // The pixels whose magnitudes set the bin edges: every 4th pixel, if valid (their cells).
   std::vector<int> sampled;
   sampled.reserve(n / 4 + 1);
   for (std::size_t i = 0; i < n; i += 4) {
-    if (frame.valid(i)) sampled.push_back(static_cast<int>(i));
+    if (frame.valid(i))
+      sampled.push_back(
+          response.cell(static_cast<int>(i % frame.width), static_cast<int>(i / frame.width)));
   }
-  const int stride = params.gabor_stride;
   // The 4 spectra, then the 24 filters (largest level first), are independent tasks.
 #pragma omp parallel num_threads(nthreads)
   {
@@ -443,13 +459,15 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
       }
       const int filter = task;
       const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
-      // At full resolution (level 0 at stride 1 needs no resizing).
-      if (s == 0 && stride == 1) {
+      // On the response grid: level 0 is computed there; coarser levels are interpolated to it.
+      if (s == 0) {
         gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, full);
       } else {
         gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, level_magnitude);
-        cv::resize(level_magnitude, full, grey.size(), 0, 0, cv::INTER_LINEAR);
+        cv::resize(level_magnitude, full, cv::Size(response.width, response.height), 0, 0,
+                   cv::INTER_LINEAR);
       }
+      CV_Assert(full.cols == response.width && full.rows == response.height);
       CV_Assert(full.isContinuous() && full.type() == CV_32F);
       const float* m = full.ptr<float>(0);
       // Fixed bin edges per filter over the frame: [0, quantile] in 10 bins, over valid points.
@@ -608,25 +626,46 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
   const int filters = kGaborScales * kGaborOrientations;
   std::vector<std::vector<float>> texture_blocks(texture ? filters : 0);
   if (texture) {
-    // The points of the rows in image order (each with its row), so that the magnitude images
-    // are read front to back.
-    std::vector<int> row_of_voxel(grid.size(), -1), pixels, pixel_row;
+    // The response cells of the rows' points in image order, so that the magnitude images are
+    // read front to back: (cell, row, weight) with weight the row's points in the cell (at
+    // stride 2 a cell holds up to 4 pixels, mostly of one voxel: binned once).
+    std::vector<int> row_of_voxel(grid.size(), -1), cells, cell_row, cell_weight;
     for (std::size_t row = 0; row < voxels.size(); ++row)
       row_of_voxel[voxels[row]] = static_cast<int>(row);
-    for (std::size_t p = 0; p < grid.voxel_of_point.size(); ++p) {
-      const int v = grid.voxel_of_point[p];
-      if (v >= 0 && row_of_voxel[v] >= 0) {
-        pixels.push_back(static_cast<int>(p));
-        pixel_row.push_back(row_of_voxel[v]);
+    auto row_of_pixel = [&](int u, int v) {
+      const int voxel = grid.voxel_of_point[static_cast<std::size_t>(v) * frame.width + u];
+      return voxel >= 0 ? row_of_voxel[voxel] : -1;
+    };
+    const ResponseGrid response(frame, params.gabor_stride);
+    for (int cy = 0; cy < response.height; ++cy)
+      for (int cx = 0; cx < response.width; ++cx) {
+        const std::size_t first = cells.size();
+        for (int v = cy * response.stride; v < std::min(frame.height, (cy + 1) * response.stride);
+             ++v)
+          for (int u = cx * response.stride; u < std::min(frame.width, (cx + 1) * response.stride);
+               ++u) {
+            const int row = row_of_pixel(u, v);
+            if (row < 0) continue;
+            std::size_t t = first;
+            while (t < cells.size() && cell_row[t] != row) ++t;
+            if (t < cells.size()) {
+              ++cell_weight[t];
+            } else {
+              cells.push_back(cy * response.width + cx);
+              cell_row.push_back(row);
+              cell_weight.push_back(1);
+            }
+          }
       }
-    }
+    // Every weight is 1 at stride 1: the unweighted count (the paper's definition, same bits).
+    const std::vector<int>* weights = params.gabor_stride == 1 ? nullptr : &cell_weight;
     const float weight = static_cast<float>(params.texture_weight);
     std::vector<float> upper_edge;
     gabor_filters(
         frame, params, threads, upper_edge,
         [&](int filter, const float* m) {
           std::vector<int> count(voxels.size() * kHistogramBins, 0);
-          TextureEdges(upper_edge[filter]).histograms(m, pixels, pixel_row, count.data());
+          TextureEdges(upper_edge[filter]).histograms(m, cells, cell_row, weights, count.data());
           std::vector<float>& out = texture_blocks[filter];
           out.assign(voxels.size() * kHistogramBins, 0.f);
           for (std::size_t row = 0; row < voxels.size(); ++row) {

@@ -482,18 +482,24 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
 
   // Instances in the order of their first pixel; the plane is one background instance.
-  std::map<int, int> slot;
+  auto slot_of = [count](int c) { return c == kPlane ? count : c; };  // surfaces, then the plane
+  std::vector<int> slot(static_cast<std::size_t>(count) + 1, -1);     // -> index in found
   std::vector<Candidate> found;
   for (std::size_t p = 0; p < frame.size(); ++p) {
     if (comp[p] == kNone) continue;
-    const auto [it, added] = slot.emplace(comp[p], static_cast<int>(found.size()));
-    if (added) found.emplace_back();
-    found[it->second].points.push_back(static_cast<int>(p));
+    int& i = slot[slot_of(comp[p])];
+    if (i < 0) {
+      i = static_cast<int>(found.size());
+      found.emplace_back();
+    }
+    found[i].points.push_back(static_cast<int>(p));
   }
   std::vector<char> keep(found.size(), 0);
-  for (auto& [c, i] : slot) {
+  for (int c = 0; c <= count; ++c) {
+    const int i = slot[c];
+    if (i < 0) continue;
     Candidate& cand = found[i];
-    const bool plane = c == kPlane;
+    const bool plane = c == count;
     if (!plane && static_cast<int>(cand.points.size()) < params.min_candidate_points) continue;
     keep[i] = 1;
     cand.label = point_labels[cand.points[0]];

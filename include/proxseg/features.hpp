@@ -22,9 +22,10 @@ struct FeatureParams {
   double gabor_wavelength = 4.0;        // pixels, at every pyramid level (scale s = level s)
   double gabor_sigma = 2.0;             // pixels, envelope of the Gabor kernel at each level
   double texture_clip_quantile = 0.99;  // upper bin edge per filter = this quantile over the frame
-  // Each filter's response is computed at every gabor_stride-th pixel (both ways) of its pyramid
-  // level and interpolated to full resolution: 1 = every pixel (the paper); 2 = a quarter of the
-  // inverse DFTs, with the same object F (docs/method.md, Speed).
+  // 1 = each filter's response at every pixel (the paper). 2 = on the half-resolution grid of
+  // 2 x 2 cells: level 0 computed at every second pixel both ways (a quarter of the inverse DFTs),
+  // coarser levels interpolated to the cells, and every pixel takes its cell's response
+  // (docs/method.md, Speed).
   int gabor_stride = 2;
   int normal_step = 3;  // organized clouds: pixel offset of the central differences
   int normal_knn = 20;  // unorganized clouds: neighbours for PCA normals

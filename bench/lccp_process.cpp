@@ -1,0 +1,167 @@
+// lccp_process INPUT.pcd... -o OUTDIR
+//
+// A plain PCL program that does what bench/peers_pcl.cpp's proxseg::peers::lccp does, for the
+// whole-process timing of seg_bench: read each PCD, supervoxels + LCCP with the LccpParams defaults
+// (bench/peers_pcl.hpp), fill the valid points no supervoxel reached from the nearest labelled
+// point within 3 cm, number the segments 1..n by smallest point index (0 = invalid or unassigned)
+// and write OUTDIR/<stem>.pcd (binary x y z rgba label, organized when the input is). It uses no
+// proxseg code.
+#include <pcl/common/io.h>
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+#include <pcl/segmentation/lccp_segmentation.h>
+#include <pcl/segmentation/supervoxel_clustering.h>
+
+#include <malloc.h>
+
+#include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace {
+
+using Point = pcl::PointXYZRGBA;
+namespace fs = std::filesystem;
+
+// LccpParams defaults (bench/peers_pcl.hpp).
+constexpr float kVoxelResolution = 0.0075f, kSeedResolution = 0.03f;
+constexpr float kColourImportance = 0.0f, kSpatialImportance = 1.0f, kNormalImportance = 4.0f;
+constexpr float kConcavityTolerance = 10.0f, kSmoothnessThreshold = 0.1f, kFillRadius = 0.03f;
+
+// One label per point of the cloud: 0 = invalid or unassigned, 1..n = segment.
+std::vector<std::uint32_t> segment(const pcl::PointCloud<Point>::Ptr& cloud) {
+  const std::size_t n = cloud->size();
+  std::vector<std::uint32_t> labels(n, 0);
+
+  pcl::SupervoxelClustering<Point> super(kVoxelResolution, kSeedResolution);
+  super.setUseSingleCameraTransform(false);
+  super.setInputCloud(cloud);
+  super.setColorImportance(kColourImportance);
+  super.setSpatialImportance(kSpatialImportance);
+  super.setNormalImportance(kNormalImportance);
+  std::map<std::uint32_t, pcl::Supervoxel<Point>::Ptr> clusters;
+  super.extract(clusters);
+  if (clusters.empty()) return labels;
+  std::multimap<std::uint32_t, std::uint32_t> adjacency;
+  super.getSupervoxelAdjacency(adjacency);
+
+  pcl::LCCPSegmentation<Point> lccp;
+  lccp.setConcavityToleranceThreshold(kConcavityTolerance);
+  lccp.setSanityCheck(true);
+  lccp.setSmoothnessCheck(true, kVoxelResolution, kSeedResolution, kSmoothnessThreshold);
+  lccp.setKFactor(0);
+  lccp.setInputSupervoxels(clusters, adjacency);
+  lccp.setMinSegmentSize(0);
+  lccp.segment();
+
+  pcl::PointCloud<pcl::PointXYZL>::Ptr labelled = super.getLabeledCloud();
+  lccp.relabelCloud(*labelled);
+  if (labelled->size() != n) return labels;
+  for (std::size_t i = 0; i < n; ++i)
+    if (pcl::isFinite((*cloud)[i])) labels[i] = (*labelled)[i].label;
+
+  // Valid points in voxels that no supervoxel reached: the nearest labelled point's label.
+  pcl::PointCloud<pcl::PointXYZ>::Ptr done(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<std::size_t> done_index, todo;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!pcl::isFinite((*cloud)[i])) continue;
+    if (labels[i] == 0) {
+      todo.push_back(i);
+    } else {
+      done->push_back(pcl::PointXYZ((*cloud)[i].x, (*cloud)[i].y, (*cloud)[i].z));
+      done_index.push_back(i);
+    }
+  }
+  if (!todo.empty() && !done->empty()) {
+    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+    tree.setInputCloud(done);
+    pcl::Indices nn(1);
+    std::vector<float> d2(1);
+    std::vector<std::uint32_t> fill(todo.size(), 0);
+    for (std::size_t t = 0; t < todo.size(); ++t) {
+      const Point& p = (*cloud)[todo[t]];
+      if (tree.nearestKSearch(pcl::PointXYZ(p.x, p.y, p.z), 1, nn, d2) > 0 &&
+          d2[0] <= kFillRadius * kFillRadius)
+        fill[t] = labels[done_index[nn[0]]];
+    }
+    for (std::size_t t = 0; t < todo.size(); ++t) labels[todo[t]] = fill[t];
+  }
+
+  // Segments 1..n in the order of their smallest point index.
+  std::unordered_map<std::uint32_t, std::uint32_t> ids;
+  for (std::uint32_t& l : labels)
+    if (l != 0) l = ids.emplace(l, static_cast<std::uint32_t>(ids.size() + 1)).first->second;
+  return labels;
+}
+
+// PCL 1.13's PCDReader crashes on a header without FIELDS (fixed in PCL 1.14, PR 5855) and loops
+// forever on a directory, so both are checked first; x, y and z are required.
+bool read_cloud(const std::string& path, pcl::PointCloud<Point>& cloud) {
+  pcl::PCLPointCloud2 header;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec) || pcl::PCDReader().readHeader(path, header) < 0) return false;
+  for (const char* field : {"x", "y", "z"})
+    if (pcl::getFieldIndex(header, field) < 0) return false;
+  return pcl::io::loadPCDFile<Point>(path, cloud) >= 0 && !cloud.empty();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // The allocator settings proxseg's CLI uses (proxseg::keep_freed_memory), so that the
+  // whole-process comparison is of the two programs' work, not of glibc's defaults.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_TOP_PAD, 64 << 20);
+  std::vector<std::string> inputs;
+  std::string out_dir;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if ((a == "-o" || a == "--output") && i + 1 < argc)
+      out_dir = argv[++i];
+    else
+      inputs.push_back(a);
+  }
+  if (inputs.empty() || out_dir.empty()) {
+    std::cerr << "usage: lccp_process INPUT.pcd... -o OUTDIR\n"
+                 "PCL supervoxels + LCCP on each cloud; writes OUTDIR/<stem>.pcd with a label "
+                 "field\n";
+    return 2;
+  }
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+  try {
+    fs::create_directories(out_dir);
+    for (const std::string& input : inputs) {
+      const fs::path output = fs::path(out_dir) / (fs::path(input).stem().string() + ".pcd");
+      if (fs::exists(output) && fs::equivalent(input, output)) {
+        std::cerr << "lccp_process: " << output.string() << " would overwrite the input\n";
+        return 1;
+      }
+      pcl::PointCloud<Point>::Ptr cloud(new pcl::PointCloud<Point>);
+      if (!read_cloud(input, *cloud)) {
+        std::cerr << "lccp_process: " << input
+                  << ": not a readable PCD with x y z fields and points\n";
+        return 1;
+      }
+      const std::vector<std::uint32_t> labels = segment(cloud);
+      pcl::PointCloud<pcl::PointXYZRGBL> result;
+      pcl::copyPointCloud(*cloud, result);
+      for (std::size_t i = 0; i < labels.size(); ++i) result[i].label = labels[i];
+      if (pcl::io::savePCDFileBinary(output.string(), result) < 0) {
+        std::cerr << "lccp_process: " << output.string() << ": cannot write\n";
+        return 1;
+      }
+    }
+  } catch (const std::exception& e) {  // pcl::PCLException, std::filesystem::filesystem_error
+    std::cerr << "lccp_process: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
