@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
         if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
       }
       for (const auto& [stage, ms] : r.concurrent_ms) {
-        const std::string row = stage + " (own thread, beside features .. MRF)";
+        const std::string row = stage + " (own thread, beside Algorithm 1 .. MRF)";
         stage_ms[name][row] += ms;
         if (std::find(concurrent.begin(), concurrent.end(), row) == concurrent.end())
           concurrent.push_back(row);

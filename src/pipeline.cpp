@@ -84,8 +84,13 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
   r.times_ms.emplace_back("voxels", watch.lap());
 
+  // 2. Features [3.1]: colour | texture | shape per voxel.
+  r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
+  r.times_ms.emplace_back("features", watch.lap());
+
   // The image-grid geometry of the selection (7) needs only the frame: with a second core it is
-  // read on its own thread while stages 2-6 compute the colour labels.
+  // read on its own thread while stages 3-6 compute the colour labels (after the features, which
+  // use every core themselves).
   const bool on_grid =
       params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
   const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
@@ -98,10 +103,6 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
       surfaces_ms = own.lap();
       return g;
     });
-
-  // 2. Features [3.1]: colour | texture | shape per voxel.
-  r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
-  r.times_ms.emplace_back("features", watch.lap());
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
   // The block weights were applied by voxel_features; balancing re-applies them after equalising.
