@@ -7,7 +7,7 @@
 set -euo pipefail
 
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
-  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev)
+  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev)
 if [ "${1:-}" = "--bench" ]; then
   packages+=(libpcl-dev gnuplot-nox)
 fi

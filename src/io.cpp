@@ -1,5 +1,6 @@
 // Readers and writers for frames. PCD is parsed here (Open3D's reader drops WIDTH/HEIGHT and
-// the label field); PLY goes through Open3D, images through OpenCV, JSON through nlohmann::json.
+// the label field); PLY goes through Open3D, PNG/JPEG images through libpng/libjpeg
+// (image_io.cpp), JSON through nlohmann::json.
 #include <proxseg/io.hpp>
 
 #include <fcntl.h>
@@ -23,10 +24,10 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string_view>
 
+#include "image_io.hpp"
 #include "lzf.hpp"
 
 namespace fs = std::filesystem;
@@ -545,54 +546,18 @@ std::string mat_kind(const cv::Mat& m) {
   return d + " " + std::to_string(m.channels()) + "-channel";
 }
 
-// Width and height from a PNG or JPEG header (0, 0 when neither or not found), read before OpenCV
-// decodes: a header may claim a size whose buffer would exhaust memory.
-std::pair<std::uint64_t, std::uint64_t> image_size_from_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(1 << 16, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  const auto* b = reinterpret_cast<const unsigned char*>(head.data());
-  auto be32 = [&](std::size_t at) {
-    return std::uint64_t{b[at]} << 24 | std::uint64_t{b[at + 1]} << 16 |
-           std::uint64_t{b[at + 2]} << 8 | b[at + 3];
-  };
-  if (head.size() >= 24 && head.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
-      head.compare(12, 4, "IHDR") == 0)
-    return {be32(16), be32(20)};
-  if (head.size() >= 4 && b[0] == 0xFF && b[1] == 0xD8) {
-    // JPEG: walk the marker segments to the first frame header (SOF0..SOF15 but DHT, JPG, DAC).
-    for (std::size_t at = 2; at + 9 < head.size();) {
-      if (b[at] != 0xFF) break;
-      const unsigned marker = b[at + 1];
-      const std::size_t len = std::size_t{b[at + 2]} << 8 | b[at + 3];
-      if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC)
-        return {std::uint64_t{b[at + 7]} << 8 | b[at + 8],
-                std::uint64_t{b[at + 5]} << 8 | b[at + 6]};
-      if (len < 2) break;
-      at += 2 + len;
-    }
-  }
-  return {0, 0};
-}
-
-// Larger images are refused before decoding (a 16-bit 8192 x 8192 depth image is 128 MiB).
+// Larger images are refused from their header, before anything is decoded or allocated (a
+// 16-bit 8192 x 8192 depth image is 128 MiB).
 constexpr std::uint64_t kMaxImagePixels = std::uint64_t{8192} * 8192;
 
+// PNG or JPEG through libpng / libjpeg (image_io.cpp), as cv::imread(IMREAD_UNCHANGED) gives it.
 cv::Mat read_image(const std::string& path) {
   require_file(path);
-  const auto [w, h] = image_size_from_header(path);
-  if (w * h > kMaxImagePixels)
-    fail(path, "image header says " + std::to_string(w) + "x" + std::to_string(h) +
-                   " pixels (expected at most 8192x8192)");
-  cv::Mat m;
   try {
-    m = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    fail(path, "cannot decode image (" + one_line(e.what()) + ")");
+    return detail::read_image_file(path, kMaxImagePixels);
+  } catch (const std::runtime_error& e) {
+    fail(path, one_line(e.what()));
   }
-  if (m.empty()) fail(path, "cannot read image (expected a PNG or JPEG OpenCV can decode)");
-  return m;
 }
 
 std::string size_str(const cv::Mat& m) {

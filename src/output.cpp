@@ -7,8 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "image_io.hpp"
 
 namespace proxseg {
 namespace {
@@ -150,9 +151,7 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
   } else {
     image = render_points(frame, labels);
   }
-  std::vector<uchar> png;
-  cv::imencode(".png", image, png);
-  return std::string(png.begin(), png.end());
+  return detail::encode_png(image);
 }
 
 nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
@@ -170,14 +169,14 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
                 {"points", frame.size()},
                 {"valid_points", frame.valid_count()},
                 {"out_of_range_points", out_of_range}};
-  double total = 0;
   nlohmann::json times = nlohmann::json::object();
-  for (const auto& [stage, ms] : r.times_ms) {
-    times[stage] = ms;
-    total += ms;
-  }
-  times["total"] = total;
+  for (const auto& [stage, ms] : r.times_ms) times[stage] = ms;
+  times["total"] = r.total_ms;  // wall time of segment()
   j["times_ms"] = times;
+  // Stages on a thread of their own beside the sequence above (not part of the total).
+  nlohmann::json concurrent = nlohmann::json::object();
+  for (const auto& [stage, ms] : r.concurrent_ms) concurrent[stage] = ms;
+  j["concurrent_times_ms"] = concurrent;
   j["voxels"] = {{"count", r.voxels.size()}, {"clustered", r.clustered.size()}};
   j["initial_centroids"] = r.initial_centroids.size();
   j["k"] = r.k();
@@ -338,9 +337,7 @@ std::string recognition_image_png(const Frame& frame, const std::vector<Recogniz
       cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 1);
     }
   }
-  std::vector<uchar> png;
-  cv::imencode(".png", image, png);
-  return std::string(png.begin(), png.end());
+  return detail::encode_png(image);
 }
 
 std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
