@@ -88,9 +88,20 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
   r.times_ms.emplace_back("features", watch.lap());
 
+  // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
+  // The block weights were applied by voxel_features; balancing re-applies them after equalising.
+  if (params.clustering.balance_blocks) {
+    const FeatureParams& fp = params.features;
+    balance_blocks(r.features, {{0, kColourDims, fp.colour_weight},
+                                {kColourDims, kTextureDims, fp.texture_weight},
+                                {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
+  }
+  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
+                           params.clustering.pca_solver);
+
   // The image-grid geometry of the selection (7) needs only the frame: with a second core it is
-  // read on its own thread while stages 3-6 compute the colour labels (after the features, which
-  // use every core themselves).
+  // read on its own thread while the rest of stages 3-6 compute the colour labels (after the
+  // features and the principal axes, which use every core themselves).
   const bool on_grid =
       params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
   const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
@@ -104,16 +115,6 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
       return g;
     });
 
-  // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
-  // The block weights were applied by voxel_features; balancing re-applies them after equalising.
-  if (params.clustering.balance_blocks) {
-    const FeatureParams& fp = params.features;
-    balance_blocks(r.features, {{0, kColourDims, fp.colour_weight},
-                                {kColourDims, kTextureDims, fp.texture_weight},
-                                {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
-  }
-  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
-                           params.clustering.pca_solver);
   const Eigen::MatrixXd x = project(r.space, r.features);
   r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
   r.times_ms.emplace_back("initial_clustering", watch.lap());
