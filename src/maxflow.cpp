@@ -46,8 +46,15 @@ int MaxFlow::next_active() {
   }
 }
 
-// Orphans are adopted in the order they were cut off (the order changes the work, not the cut).
-void MaxFlow::set_orphan(int i) {
+// Orphans cut off by an augmentation are adopted nearest-to-the-terminal first (each is put in
+// front of the queue as the path is walked from the middle outwards), so that the deeper ones
+// find a valid ancestor; orphans made while adopting wait at the back. The order changes the
+// work, not the cut.
+void MaxFlow::set_orphan_front(int i) {
+  nodes_[static_cast<std::size_t>(i)].parent = kOrphan;
+  orphans_.push_front(i);
+}
+void MaxFlow::set_orphan_rear(int i) {
   nodes_[static_cast<std::size_t>(i)].parent = kOrphan;
   orphans_.push_back(i);
 }
@@ -74,22 +81,22 @@ void MaxFlow::augment(int middle) {
     Cap& back = arcs_[static_cast<std::size_t>(sister(a))].residual;
     back -= bottleneck;
     const int up = arcs_[static_cast<std::size_t>(a)].head;
-    if (back == 0) set_orphan(i);
+    if (back == 0) set_orphan_front(i);
     i = up;
   }
   node(i).terminal -= bottleneck;
-  if (node(i).terminal == 0) set_orphan(i);
+  if (node(i).terminal == 0) set_orphan_front(i);
   i = arcs_[static_cast<std::size_t>(middle)].head;
   for (int a; (a = node(i).parent) != kTerminal;) {
     arcs_[static_cast<std::size_t>(sister(a))].residual += bottleneck;
     Cap& forward = arcs_[static_cast<std::size_t>(a)].residual;
     forward -= bottleneck;
     const int up = arcs_[static_cast<std::size_t>(a)].head;
-    if (forward == 0) set_orphan(i);
+    if (forward == 0) set_orphan_front(i);
     i = up;
   }
   node(i).terminal += bottleneck;
-  if (node(i).terminal == 0) set_orphan(i);
+  if (node(i).terminal == 0) set_orphan_front(i);
   flow_ += bottleneck;
 }
 
@@ -158,14 +165,13 @@ void MaxFlow::adopt(int i) {
     const Cap cap = sink ? arcs_[static_cast<std::size_t>(a0)].residual
                          : arcs_[static_cast<std::size_t>(sister(a0))].residual;
     if (cap > 0) set_active(j);
-    if (nj.parent >= 0 && arcs_[static_cast<std::size_t>(nj.parent)].head == i) set_orphan(j);
+    if (nj.parent >= 0 && arcs_[static_cast<std::size_t>(nj.parent)].head == i) set_orphan_rear(j);
   }
 }
 
 MaxFlow::Cap MaxFlow::solve() {
   queue_first_[0] = queue_first_[1] = queue_last_[0] = queue_last_[1] = -1;
   orphans_.clear();
-  orphan_head_ = 0;
   time_ = 0;
   const int m = static_cast<int>(nodes_.size());
   for (int i = 0; i < m; ++i) {
@@ -221,9 +227,11 @@ MaxFlow::Cap MaxFlow::solve() {
     n.next = i;  // stays active (set_active would queue it)
     current = i;
     augment(middle);
-    while (orphan_head_ < orphans_.size()) adopt(orphans_[orphan_head_++]);
-    orphans_.clear();
-    orphan_head_ = 0;
+    while (!orphans_.empty()) {
+      const int orphan = orphans_.front();
+      orphans_.pop_front();
+      adopt(orphan);
+    }
   }
   mark_source_side();
   return flow_;

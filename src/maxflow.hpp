@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 namespace proxseg {
@@ -61,15 +62,15 @@ class MaxFlow {
   void set_active(int i);
   int next_active();
   void augment(int middle);
-  void set_orphan(int i);
+  void set_orphan_front(int i);
+  void set_orphan_rear(int i);
   void adopt(int i);
   void mark_source_side();
 
   std::vector<Node> nodes_;
   std::vector<Arc> arcs_;
   int queue_first_[2] = {-1, -1}, queue_last_[2] = {-1, -1};
-  std::vector<int> orphans_;  // a queue: [orphan_head_, size) are waiting
-  std::size_t orphan_head_ = 0;
+  std::deque<int> orphans_;  // waiting for adoption
   int time_ = 0;
   Cap flow_ = 0;
   std::vector<char> source_side_;
