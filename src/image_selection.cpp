@@ -460,13 +460,14 @@ Selection select_candidates_on_grid(const Frame& frame,
   std::vector<char> labelled(frame.size(), 0);
   for (std::size_t p = 0; p < frame.size(); ++p) labelled[p] = point_labels[p] != 0;
   return select_on_grid(frame, grid_surfaces(frame, labelled, params, threads), point_labels,
-                        params);
+                        params, threads);
 }
 
 Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
                          const std::vector<std::uint32_t>& point_labels,
-                         const SelectionParams& params) {
-  const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), 1);
+                         const SelectionParams& params, int threads) {
+  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
   SupportPlane support;
   support.found = surfaces.plane_found;
   support.plane = {surfaces.plane_normal, surfaces.plane_offset};
@@ -495,6 +496,8 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
     found[i].points.push_back(static_cast<int>(p));
   }
   std::vector<char> keep(found.size(), 0);
+  // Each candidate is described by one iteration (boxes are the costly part): any thread.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
   for (int c = 0; c <= count; ++c) {
     const int i = slot[c];
     if (i < 0) continue;

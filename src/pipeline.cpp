@@ -153,7 +153,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
-  r.selection = on_grid ? select_on_grid(frame, surfaces.get(), r.point_labels, params.selection)
+  r.selection = on_grid ? select_on_grid(frame, surfaces.get(), r.point_labels, params.selection,
+                                         params.threads)
                         : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
   if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);

@@ -137,7 +137,7 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
                            const SelectionParams& params, int threads = 0);
 Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
                          const std::vector<std::uint32_t>& point_labels,
-                         const SelectionParams& params);
+                         const SelectionParams& params, int threads = 0);
 
 // The oriented bounding box of a set of points (principal axes).
 OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points);
