@@ -188,6 +188,16 @@ int main(int argc, char** argv) {
                  "bench/lccp_process for the whole-process times (PCL LCCP as its own program)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  // The result files are written at the end: a missing folder is reported before the run.
+  for (const std::string& path : {out, csv}) {
+    if (path.empty()) continue;
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) {
+      std::cerr << "seg_bench: " << path << ": cannot write (directory " << dir.string()
+                << " does not exist)\n";
+      return 1;
+    }
+  }
   if (process_scenes > 0)
     for (const std::string& tool : {proxseg_cli, lccp_process})
       if (access(tool.c_str(), X_OK) != 0) {
@@ -593,7 +603,12 @@ int main(int argc, char** argv) {
         "in PCL's tutorials.\n";
 
   std::cout << md.str();
-  if (!out.empty()) proxseg::write_file_atomic(out, md.str());
-  if (!csv.empty()) proxseg::write_file_atomic(csv, proxseg::scenes_csv(scores));
+  try {
+    if (!out.empty()) proxseg::write_file_atomic(out, md.str());
+    if (!csv.empty()) proxseg::write_file_atomic(csv, proxseg::scenes_csv(scores));
+  } catch (const proxseg::InputError& e) {
+    std::cerr << "seg_bench: " << e.what() << "\n";
+    return 1;
+  }
   return 0;
 }
