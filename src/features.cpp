@@ -408,12 +408,14 @@ struct ResponseGrid {
 // edges; for each filter, the thread that computed it calls consume(filter, magnitude) with the
 // magnitude image on the ResponseGrid of params.gabor_stride (valid during the call only). Every
 // filter is computed the same way whatever the thread, so the outputs do not depend on the
-// number of threads as long as `consume` writes only outputs of its filter. `side` is one more
-// independent task, run among the filters (OpenMP loops inside it run on that task's thread
+// number of threads as long as `consume` writes only outputs of its filter. `prepare` runs as one
+// more task beside the spectra, before any filter (what `consume` needs); `side` is one more
+// independent task, run among the filters (OpenMP loops inside them run on that task's thread
 // unless nested parallelism is enabled).
-template <class Consume, class Side>
+template <class Consume, class Prepare, class Side>
 void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
-                   std::vector<float>& upper_edge, Consume&& consume, Side&& side) {
+                   std::vector<float>& upper_edge, Consume&& consume, Prepare&& prepare,
+                   Side&& side) {
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
   cv::Mat grey(frame.height, frame.width, CV_32F);
 #pragma omp parallel for schedule(static) num_threads(nthreads)
@@ -443,11 +445,17 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
       sampled.push_back(
           response.cell(static_cast<int>(i % frame.width), static_cast<int>(i / frame.width)));
   }
-  // The 4 spectra, then the 24 filters (largest level first), are independent tasks.
+  // `prepare` and the 4 spectra, then the 24 filters (largest level first), are independent
+  // tasks.
 #pragma omp parallel num_threads(nthreads)
   {
 #pragma omp for schedule(dynamic, 1)
-    for (int s = 0; s < kGaborScales; ++s) spectra[s] = level_spectrum(levels[s], stride);
+    for (int task = -1; task < kGaborScales; ++task) {
+      if (task < 0)
+        prepare();
+      else
+        spectra[task] = level_spectrum(levels[task], stride);
+    }
     GaborWork work;
     cv::Mat level_magnitude, full;
     std::vector<float> sample, candidates;
@@ -495,7 +503,7 @@ GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int thread
   bank.magnitude.assign(kGaborScales * kGaborOrientations, {});
   gabor_filters(
       frame, every_pixel, threads, bank.upper_edge,
-      [&](int filter, const float* m) { bank.magnitude[filter].assign(m, m + n); }, [] {});
+      [&](int filter, const float* m) { bank.magnitude[filter].assign(m, m + n); }, [] {}, [] {});
   return bank;
 }
 
@@ -637,26 +645,28 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
       return voxel >= 0 ? row_of_voxel[voxel] : -1;
     };
     const ResponseGrid response(frame, params.gabor_stride);
-    for (int cy = 0; cy < response.height; ++cy)
-      for (int cx = 0; cx < response.width; ++cx) {
-        const std::size_t first = cells.size();
-        for (int v = cy * response.stride; v < std::min(frame.height, (cy + 1) * response.stride);
-             ++v)
-          for (int u = cx * response.stride; u < std::min(frame.width, (cx + 1) * response.stride);
-               ++u) {
-            const int row = row_of_pixel(u, v);
-            if (row < 0) continue;
-            std::size_t t = first;
-            while (t < cells.size() && cell_row[t] != row) ++t;
-            if (t < cells.size()) {
-              ++cell_weight[t];
-            } else {
-              cells.push_back(cy * response.width + cx);
-              cell_row.push_back(row);
-              cell_weight.push_back(1);
+    auto build_cells = [&] {  // run beside the spectra
+      for (int cy = 0; cy < response.height; ++cy)
+        for (int cx = 0; cx < response.width; ++cx) {
+          const std::size_t first = cells.size();
+          for (int v = cy * response.stride; v < std::min(frame.height, (cy + 1) * response.stride);
+               ++v)
+            for (int u = cx * response.stride;
+                 u < std::min(frame.width, (cx + 1) * response.stride); ++u) {
+              const int row = row_of_pixel(u, v);
+              if (row < 0) continue;
+              std::size_t t = first;
+              while (t < cells.size() && cell_row[t] != row) ++t;
+              if (t < cells.size()) {
+                ++cell_weight[t];
+              } else {
+                cells.push_back(cy * response.width + cx);
+                cell_row.push_back(row);
+                cell_weight.push_back(1);
+              }
             }
-          }
-      }
+        }
+    };
     // Every weight is 1 at stride 1: the unweighted count (the paper's definition, same bits).
     const std::vector<int>* weights = params.gabor_stride == 1 ? nullptr : &cell_weight;
     const float weight = static_cast<float>(params.texture_weight);
@@ -677,7 +687,7 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
                   static_cast<float>(count[row * kHistogramBins + b]) / total * weight;
           }
         },
-        compute_normals);
+        build_cells, compute_normals);
   }
   // Each row is written by one iteration only: the result does not depend on the thread count.
 #pragma omp parallel for schedule(dynamic, 64) \
