@@ -17,6 +17,7 @@ struct SegmentOptions {
   std::string preset = "default";
   bool no_mrf = false;
   std::optional<std::string> mrf_method;
+  std::optional<int> mrf_cycles;
   std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
       shape_weight, cluster_tolerance;
   std::optional<int> min_points, pca_dims, threads, min_candidate_points;

@@ -41,6 +41,8 @@ void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
   cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
       ->check(CLI::IsMember({"swap", "expansion"}));
+  cmd->add_option("--mrf-cycles", o.mrf_cycles,
+                  "Most MRF sweeps over the labels (default 2; paper: until nothing changes)");
   cmd->add_option("--voxel-size", o.voxel_size, "Voxel side in metres (paper: 0.02)");
   cmd->add_option("--min-points", o.min_points, "Voxels with fewer points are not clustered");
   cmd->add_option("--alpha", o.alpha, "Chi-square confidence of Algorithm 1 (paper: 0.85)");
@@ -81,6 +83,7 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentP
   if (o.mrf_method)
     p.mrf.method =
         *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
+  if (o.mrf_cycles) p.mrf.max_cycles = *o.mrf_cycles;
   if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
   if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
   if (o.threads) p.threads = *o.threads;

@@ -292,6 +292,7 @@ SegmentParams preset(const std::string& name) {
     p.mrf.unary_weight = 1.0;
     p.mrf.pairwise_weight = 0.275;
     p.mrf.method = MrfMethod::kSwap;
+    p.mrf.max_cycles = 100;  // until a sweep lowers nothing, as GCO's swap
     // Section 3.3 as written: same-label clusters split at weak links, kept by size; none of the
     // convexity, support-plane or small-fragment extensions.
     p.selection.split_concave = false;

@@ -86,6 +86,14 @@ TEST(Cli, JsonOnStdoutConfigAndFlags) {
   EXPECT_EQ(j["parameters"]["mrf"]["pairwise_weight"], 0.1);  // the flag wins
   EXPECT_EQ(j["parameters"]["mrf"]["enabled"], false);
   EXPECT_EQ(j["mrf"]["energy_after"], j["mrf"]["energy_before"]);
+
+  // Sweeps: the flag reaches the parameters and caps the MRF's cycles.
+  const CliRun one = run("segment " + learn0() + " -o " + o.string() + " --mrf-cycles 1 --json");
+  ASSERT_EQ(one.code, 0) << one.err;
+  const nlohmann::json k = nlohmann::json::parse(one.out);
+  EXPECT_EQ(k["parameters"]["mrf"]["max_cycles"], 1);
+  EXPECT_EQ(k["mrf"]["cycles"], 1);
+  EXPECT_LT(k["mrf"]["energy_after"].get<double>(), k["mrf"]["energy_before"].get<double>());
 }
 
 TEST(Cli, RgbdPairWithMeta) {
@@ -113,6 +121,8 @@ TEST(Cli, BadInputsExitOneWithTheFileNamedAndNoOutput) {
   expect_input_error(run("segment " + (kTmp / "truncated.pcd").string() + " -o " + o.string()),
                      "truncated.pcd", o);
   expect_input_error(run("segment " + learn0() + " --voxel-size -1 -o " + o.string()), "voxel_size",
+                     o);
+  expect_input_error(run("segment " + learn0() + " --mrf-cycles 0 -o " + o.string()), "max_cycles",
                      o);
 }
 

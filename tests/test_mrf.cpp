@@ -503,6 +503,31 @@ TEST(Mrf, Deterministic) {
   }
 }
 
+// A run capped at c cycles is the first c cycles of the uncapped run: the same accepted moves in
+// the same order (the default stops after 2 sweeps, the paper preset runs to convergence).
+TEST(Mrf, CappedRunIsThePrefixOfTheConvergedRun) {
+  std::mt19937 rng(91);
+  const MrfProblem p = random_problem(rng, 2000, 7, 8000, 0.3);
+  const std::vector<int> init = random_labels(rng, 2000, 7);
+  for (Minimiser solve : {&alpha_beta_swap, &alpha_expansion}) {
+    const MrfResult full = solve(p, init, 100);
+    ASSERT_GE(full.cycles, 3);  // so that the caps below stop early
+    std::size_t previous_moves = 0;
+    for (int cap = 1; cap < full.cycles; ++cap) {
+      SCOPED_TRACE("cap " + std::to_string(cap));
+      const MrfResult r = solve(p, init, cap);
+      EXPECT_EQ(r.cycles, cap);
+      ASSERT_LE(r.energy_trace.size(), full.energy_trace.size());
+      EXPECT_TRUE(
+          std::equal(r.energy_trace.begin(), r.energy_trace.end(), full.energy_trace.begin()));
+      EXPECT_GE(r.energy_trace.size(), previous_moves);
+      EXPECT_NEAR(r.energy_after, energy(p, r.labels), 1e-9);
+      EXPECT_GE(r.energy_after, full.energy_after - 1e-12);
+      previous_moves = r.energy_trace.size();
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // 8. Two labels: one swap move is exact, so the result is the global minimum.
 

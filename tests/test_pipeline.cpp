@@ -1,6 +1,7 @@
 // End-to-end runs of segment() on real data (mOSD, YCB-Video, PCL) and on the synthetic scene.
 #include <proxseg/io.hpp>
 #include <proxseg/metrics.hpp>
+#include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 #include <proxseg/render.hpp>
 
@@ -99,6 +100,22 @@ TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
   std::cout << "mean V k-means " << v_kmeans / 3 << ", k-means+MRF " << v_mrf / 3 << "\n";
   EXPECT_GT(v_mrf, v_kmeans);
   EXPECT_GE(v_mrf / 3, 0.32);
+}
+
+TEST(Pipeline, DefaultStopsAfterTwoSweepsPaperConverges) {
+  // learn0 takes more than two sweeps to converge under both presets (docs/method.md, MRF).
+  const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
+  SegmentParams p;
+  EXPECT_EQ(p.mrf.max_cycles, 2);
+  const SegmentResult fast = segment(f, p);
+  EXPECT_EQ(fast.mrf_cycles, 2);
+  p.mrf.max_cycles = 100;
+  const SegmentResult converged = segment(f, p);
+  EXPECT_GT(converged.mrf_cycles, 2);
+  EXPECT_LE(converged.energy_after, fast.energy_after);
+  EXPECT_LT(fast.energy_after, fast.energy_before);
+  const SegmentResult paper = segment(f, preset("paper"));
+  EXPECT_GT(paper.mrf_cycles, 2);
 }
 
 TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {

@@ -16,7 +16,11 @@ struct MrfParams {
   // (docs/method.md has the measurements).
   double pairwise_weight = 0.05;
   MrfMethod method = MrfMethod::kSwap;
-  int max_cycles = 100;  // safety cap on full sweeps over label pairs
+  // Full sweeps over the label pairs (expansion: over the labels); fewer if a sweep lowers nothing.
+  // Two sweeps give 99.8 % of the energy decrease of running to convergence (3-5 sweeps, the
+  // last one only confirming) at 60 % of the time (docs/method.md, "MRF"); the paper preset
+  // runs to convergence.
+  int max_cycles = 2;
 };
 
 // E(l) = sum_j unary(j, l_j) + sum_{(j,k) in edges} w_c [l_j != l_k]; each edge listed once.
