@@ -4,8 +4,8 @@
 // whole-process timing of seg_bench: read each PCD, supervoxels + LCCP with the LccpParams defaults
 // (bench/peers_pcl.hpp), fill the valid points no supervoxel reached from the nearest labelled
 // point within 3 cm, number the segments 1..n by smallest point index (0 = invalid or unassigned)
-// and write OUTDIR/<stem>.pcd (binary x y z rgba label, organized when the input is). It uses no
-// proxseg code.
+// and write OUTDIR/<stem>.pcd (binary x y z rgba label, organized when the input is). The only
+// proxseg code in it is the allocator setting of proxseg's CLI (src/memory.cpp).
 #include <pcl/common/io.h>
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
@@ -14,7 +14,7 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
-#include <malloc.h>
+#include <proxseg/memory.hpp>
 
 #include <cstdint>
 #include <exception>
@@ -115,11 +115,9 @@ bool read_cloud(const std::string& path, pcl::PointCloud<Point>& cloud) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The allocator settings proxseg's CLI uses (proxseg::keep_freed_memory), so that the
-  // whole-process comparison is of the two programs' work, not of glibc's defaults.
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  mallopt(M_TOP_PAD, 64 << 20);
+  // The allocator settings proxseg's CLI uses, so that the whole-process comparison is of the two
+  // programs' work, not of glibc's defaults.
+  proxseg::keep_freed_memory();
   std::vector<std::string> inputs;
   std::string out_dir;
   for (int i = 1; i < argc; ++i) {

@@ -236,7 +236,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::map<std::string, double>> stage_ms;  // variant -> stage -> sum
   std::map<std::string, int> stage_frames;                        // variant -> frames timed
   std::vector<std::string> stages;                                // in pipeline order
-  std::vector<std::string> concurrent;  // stages on their own thread, not in the sequence
+  std::vector<std::string> concurrent;  // stages on a second thread, not in the sequence
   const std::string kTotal = "total (segment() wall time)";
   // set -> "variant k-means" / "variant k-means+MRF" -> sums
   std::map<std::string, std::map<std::string, Table1>> table1;
@@ -253,7 +253,7 @@ int main(int argc, char** argv) {
         if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
       }
       for (const auto& [stage, ms] : r.concurrent_ms) {
-        const std::string row = stage + " (own thread, beside Algorithm 1 .. MRF)";
+        const std::string row = stage + " (second thread, beside Algorithm 1 .. point labels)";
         stage_ms[name][row] += ms;
         if (std::find(concurrent.begin(), concurrent.end(), row) == concurrent.end())
           concurrent.push_back(row);

@@ -7,7 +7,7 @@
 #include <omp.h>
 
 #include <chrono>
-#include <future>
+#include <exception>
 
 namespace proxseg {
 namespace {
@@ -69,6 +69,31 @@ std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& gri
   return out;
 }
 
+// Runs a and b at the same time on two threads of the OpenMP team: its second thread would
+// otherwise spin-wait for the next parallel region (libgomp's default), taking a core from a
+// thread of our own. An exception from either reaches the caller once both have finished.
+template <class A, class B>
+void run_beside(A&& a, B&& b) {
+  std::exception_ptr error[2];
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    try {
+      a();
+    } catch (...) {
+      error[0] = std::current_exception();
+    }
+#pragma omp section
+    try {
+      b();
+    } catch (...) {
+      error[1] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : error)
+    if (e) std::rethrow_exception(e);
+}
+
 }  // namespace
 
 SegmentResult segment(const Frame& frame, const SegmentParams& params) {
@@ -99,62 +124,68 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
                            params.clustering.pca_solver);
 
-  // The image-grid geometry of the selection (7) needs only the frame: with a second core it is
-  // read on its own thread while the rest of stages 3-6 compute the colour labels (after the
-  // features and the principal axes, which use every core themselves).
+  // The image-grid geometry of the selection (7) needs only the frame: with a second thread it is
+  // read beside stages 3-6's colour labels (after the features and the principal axes, which use
+  // every thread themselves).
   const bool on_grid =
       params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
   const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  const bool beside = on_grid && nthreads > 1;
+  GridSurfaces surfaces;
   double surfaces_ms = 0;
-  std::future<GridSurfaces> surfaces;
-  if (on_grid)
-    surfaces = std::async(nthreads > 1 ? std::launch::async : std::launch::deferred, [&] {
-      Stopwatch own;
-      GridSurfaces g = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
-      surfaces_ms = own.lap();
-      return g;
-    });
+  auto read_geometry = [&] {
+    Stopwatch own;
+    surfaces = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
+    surfaces_ms = own.lap();
+  };
+  auto colour_labels = [&] {
+    const Eigen::MatrixXd x = project(r.space, r.features);
+    r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
+    r.times_ms.emplace_back("initial_clustering", watch.lap());
 
-  const Eigen::MatrixXd x = project(r.space, r.features);
-  r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
-  r.times_ms.emplace_back("initial_clustering", watch.lap());
+    // 4. k-means [3.2] from Algorithm 1's centroids.
+    Eigen::MatrixXd start(r.initial_centroids.size(), x.cols());
+    for (std::size_t s = 0; s < r.initial_centroids.size(); ++s)
+      start.row(s) = r.initial_centroids[s].mu.transpose();
+    KMeansResult km = kmeans(x, start, params.kmeans);
+    r.centroids = km.centroids;
+    r.labels_kmeans = km.labels;
+    r.kmeans_iterations = km.iterations;
+    r.times_ms.emplace_back("kmeans", watch.lap());
 
-  // 4. k-means [3.2] from Algorithm 1's centroids.
-  Eigen::MatrixXd start(r.initial_centroids.size(), x.cols());
-  for (std::size_t s = 0; s < r.initial_centroids.size(); ++s)
-    start.row(s) = r.initial_centroids[s].mu.transpose();
-  KMeansResult km = kmeans(x, start, params.kmeans);
-  r.centroids = km.centroids;
-  r.labels_kmeans = km.labels;
-  r.kmeans_iterations = km.iterations;
-  r.times_ms.emplace_back("kmeans", watch.lap());
+    // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
+    MrfProblem problem{unary_potentials(x, r.centroids, params.mrf.unary_weight), edge_list(graph),
+                       params.mrf.pairwise_weight};
+    r.labels = r.labels_kmeans;
+    r.energy_before = r.energy_after = energy(problem, r.labels);
+    if (params.mrf.enabled && r.k() > 1) {
+      const MrfResult mrf = params.mrf.method == MrfMethod::kSwap
+                                ? alpha_beta_swap(problem, r.labels, params.mrf.max_cycles)
+                                : alpha_expansion(problem, r.labels, params.mrf.max_cycles);
+      r.labels = mrf.labels;
+      r.energy_after = mrf.energy_after;
+      r.mrf_cycles = mrf.cycles;
+    }
+    r.times_ms.emplace_back("mrf", watch.lap());
 
-  // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
-  MrfProblem problem{unary_potentials(x, r.centroids, params.mrf.unary_weight), edge_list(graph),
-                     params.mrf.pairwise_weight};
-  r.labels = r.labels_kmeans;
-  r.energy_before = r.energy_after = energy(problem, r.labels);
-  if (params.mrf.enabled && r.k() > 1) {
-    const MrfResult mrf = params.mrf.method == MrfMethod::kSwap
-                              ? alpha_beta_swap(problem, r.labels, params.mrf.max_cycles)
-                              : alpha_expansion(problem, r.labels, params.mrf.max_cycles);
-    r.labels = mrf.labels;
-    r.energy_after = mrf.energy_after;
-    r.mrf_cycles = mrf.cycles;
-  }
-  r.times_ms.emplace_back("mrf", watch.lap());
-
-  // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
-  const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
-  r.point_labels = label_points(frame, r.voxels, source, r.labels);
-  r.point_labels_kmeans =
-      params.mrf.enabled ? label_points(frame, r.voxels, source, r.labels_kmeans) : r.point_labels;
-  r.times_ms.emplace_back("point_labels", watch.lap());
+    // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
+    const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
+    r.point_labels = label_points(frame, r.voxels, source, r.labels);
+    r.point_labels_kmeans = params.mrf.enabled
+                                ? label_points(frame, r.voxels, source, r.labels_kmeans)
+                                : r.point_labels;
+    r.times_ms.emplace_back("point_labels", watch.lap());
+  };
+  if (beside)
+    run_beside(colour_labels, read_geometry);
+  else
+    colour_labels();
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
-  r.selection = on_grid ? select_on_grid(frame, surfaces.get(), r.point_labels, params.selection,
-                                         params.threads)
+  if (on_grid && !beside) read_geometry();
+  r.selection = on_grid ? select_on_grid(frame, std::move(surfaces), r.point_labels,
+                                         params.selection, params.threads)
                         : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
   if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);

@@ -39,8 +39,8 @@ struct SegmentResult {
   std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
   Selection selection;                                   // clusters -> candidates [3.3]
   std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
-  // Stages that ran on a thread of their own beside the ones above (the image-grid geometry of
-  // the selection, beside Algorithm 1 .. MRF): not part of the sequence.
+  // Stages that ran on a second thread beside the ones above (the image-grid geometry of the
+  // selection, beside Algorithm 1 .. point labels): not part of the sequence.
   std::vector<std::pair<std::string, double>> concurrent_ms;
   double total_ms = 0;  // wall time of segment()
   int k() const { return static_cast<int>(centroids.rows()); }
