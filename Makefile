@@ -87,8 +87,8 @@ bench-mem: configure
 # The paper's recognition experiments (Tables 2-3, ROC) with the peers: about 45 min on 2 cores.
 REC_OUT = $(BUILD)/bench-out/rec
 bench-rec: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli
-	@$(BUILD)/proxseg bench-rec --models $(DATA)/lmo/models --views 8 --tests 2241 --seed 1 \
+	@cmake --build $(BUILD) -j $(JOBS) --target rec_bench
+	@$(BUILD)/bench/rec_bench --models $(DATA)/lmo/models --views 8 --tests 2241 --seed 1 \
 	  -o $(REC_OUT)
 	@mkdir -p docs/img
 	@cp $(REC_OUT)/roc.png docs/img/rec-roc.png && cp $(REC_OUT)/pr.png docs/img/rec-pr.png

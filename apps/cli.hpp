@@ -83,15 +83,4 @@ struct RecognizeOptions : SegmentOptions {
 void add_recognize(CLI::App& app, RecognizeOptions& o);
 int run_recognize(const RecognizeOptions& o);
 
-// `proxseg bench-rec`: the paper's recognition experiments (section 4, Tables 2-3, Fig. 3)
-struct BenchRecOptions {
-  std::string models, output, config, units = "mm", peers = "all";
-  int views = 8, tests = 2241, occluded_tests = 600, sweep_tests = 200, peer_tests = 60;
-  int threads = 0;
-  std::uint64_t seed = 1;
-  bool no_sweep = false, json = false;
-};
-void add_bench_rec(CLI::App& app, BenchRecOptions& o);
-int run_bench_rec(const BenchRecOptions& o);
-
 }  // namespace cli

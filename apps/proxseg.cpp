@@ -545,8 +545,6 @@ int main(int argc, char** argv) {
   add_recognize(app, recognize);
   EvalOptions eval;
   add_eval(app, eval);
-  BenchRecOptions bench_rec;
-  add_bench_rec(app, bench_rec);
   SynthOptions synth;
   auto* synth_cmd = app.add_subcommand(
       "synth", "Write the built-in synthetic tabletop scene (with ground truth)");
@@ -580,7 +578,6 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("eval-seg")) return run_eval(eval);
     if (app.got_subcommand("db")) return run_db(db);
     if (app.got_subcommand("recognize")) return run_recognize(recognize);
-    if (app.got_subcommand("bench-rec")) return run_bench_rec(bench_rec);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (code 0) or the usage error
     return code == 0 ? 0 : 2;

@@ -1,4 +1,5 @@
-// Running the proxseg CLI from a test: exit code, stdout, stderr (test_cli, test_robustness).
+// Running the proxseg CLI from a test: exit code, stdout, stderr (test_cli, test_robustness;
+// test_rec_bench runs bench/rec_bench the same way).
 #pragma once
 #include <gtest/gtest.h>
 
@@ -28,14 +29,15 @@ inline std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-// Runs `proxseg ARGS` with its output captured in files under tmp.
-inline CliRun run_in(const fs::path& tmp, const std::string& args) {
+// Runs `proxseg ARGS` (or another executable: bench/rec_bench in test_rec_bench) with its output
+// captured in files under tmp.
+inline CliRun run_in(const fs::path& tmp, const std::string& args, const std::string& exe = kCli) {
   fs::create_directories(tmp);
   // ctest runs test cases in parallel processes: one pair of capture files per test case.
   const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const std::string out = (tmp / (name + ".stdout")).string(),
                     err = (tmp / (name + ".stderr")).string();
-  const int status = std::system((kCli + " " + args + " >" + out + " 2>" + err).c_str());
+  const int status = std::system((exe + " " + args + " >" + out + " 2>" + err).c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
 }
 

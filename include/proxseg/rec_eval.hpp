@@ -1,7 +1,7 @@
 // Recognition evaluation [paper 4, Tables 2-3, Fig. 3]: a seeded test set of object views from
 // random viewpoints that are not database viewpoints, the paper's occlusion generator applied to
 // it, and the measures of the paper (true- and false-positive rates, ROC, precision-recall).
-// `proxseg bench-rec` runs it; docs/metrics.md defines the measures.
+// bench/rec_bench (`make bench-rec`) runs it; docs/metrics.md defines the measures.
 #pragma once
 #include <proxseg/database.hpp>
 #include <proxseg/render.hpp>
