@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image_io.hpp"
+#include "run_beside.hpp"
 
 namespace proxseg {
 namespace {
@@ -218,14 +219,20 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
 
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result) {
-  // Everything is produced in memory first so that a failure leaves no partial set of files.
-  const std::string png = label_image_png(frame, result.selection.instance);
-  nlohmann::json report = segmentation_report(frame, params, result);
+  // The picture (three quarters of the work: building and compressing it) is made beside the
+  // report and the PCD. A failure anywhere removes the files already written: never a partial set.
+  std::string png;
+  nlohmann::json report;
   std::vector<std::string> written;
   try {
-    write_pcd(prefix + ".pcd", frame,
-              {{"label", result.point_labels}, {"instance", result.selection.instance}});
-    written.push_back(prefix + ".pcd");
+    detail::run_beside(
+        params.threads != 1, [&] { png = label_image_png(frame, result.selection.instance); },
+        [&] {
+          report = segmentation_report(frame, params, result);
+          write_pcd(prefix + ".pcd", frame,
+                    {{"label", result.point_labels}, {"instance", result.selection.instance}});
+          written.push_back(prefix + ".pcd");
+        });
     write_file_atomic(prefix + ".png", png);
     written.push_back(prefix + ".png");
     write_file_atomic(prefix + ".json", report.dump(2) + "\n");

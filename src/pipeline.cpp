@@ -2,12 +2,13 @@
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 
+#include "run_beside.hpp"
+
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include <omp.h>
 
 #include <chrono>
-#include <exception>
 
 namespace proxseg {
 namespace {
@@ -67,31 +68,6 @@ std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& gri
     if (v >= 0 && source[v] >= 0) out[p] = static_cast<std::uint32_t>(labels[source[v]] + 1);
   }
   return out;
-}
-
-// Runs a and b at the same time on two threads of the OpenMP team: its second thread would
-// otherwise spin-wait for the next parallel region (libgomp's default), taking a core from a
-// thread of our own. An exception from either reaches the caller once both have finished.
-template <class A, class B>
-void run_beside(A&& a, B&& b) {
-  std::exception_ptr error[2];
-#pragma omp parallel sections num_threads(2)
-  {
-#pragma omp section
-    try {
-      a();
-    } catch (...) {
-      error[0] = std::current_exception();
-    }
-#pragma omp section
-    try {
-      b();
-    } catch (...) {
-      error[1] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& e : error)
-    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace
@@ -177,7 +153,7 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
     r.times_ms.emplace_back("point_labels", watch.lap());
   };
   if (beside)
-    run_beside(colour_labels, read_geometry);
+    detail::run_beside(true, colour_labels, read_geometry);
   else
     colour_labels();
 
