@@ -8,6 +8,7 @@
 #include <proxseg/params.hpp>
 #include <proxseg/pipeline.hpp>
 #include <proxseg/render.hpp>
+#include <proxseg/version.hpp>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -258,6 +259,7 @@ int run_segment_batch(const SegmentCommand& o, const proxseg::SegmentParams& par
                                   {"interrupted", interrupted()},
                                   {"peak_rss_mib", peak_rss_mib()},
                                   {"scenes", scenes},
+                                  {"proxseg", proxseg::build_info()},
                                   {"parameters", proxseg::to_json(params)}};
   proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
   if (o.json)
@@ -484,7 +486,8 @@ int run_eval_batch(const EvalOptions& o) {
                             {"skipped_unlabelled", unlabelled},
                             {"scenes_total", files.size()},
                             {"interrupted", interrupted()},
-                            {"summary", proxseg::summary_json(rows)}};
+                            {"summary", proxseg::summary_json(rows)},
+                            {"proxseg", proxseg::build_info()}};
   if (o.pred_dir.empty()) summary["parameters"] = proxseg::to_json(params);
   const std::string markdown = proxseg::summary_markdown(rows);
   if (!o.output.empty()) {
@@ -536,6 +539,8 @@ int run_eval(const EvalOptions& o) {
 int main(int argc, char** argv) {
   proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
   CLI::App app{"proxseg: unsupervised RGB-D segmentation and object recognition"};
+  app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
+                                        proxseg::git_commit() + ")");
   app.require_subcommand(1);
   SegmentCommand segment;
   add_segment(app, segment);

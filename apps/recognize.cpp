@@ -183,6 +183,7 @@ int run_recognize(const RecognizeOptions& o) {
                         {"objects", db.objects().size()},
                         {"views", db.views.size()},
                         {"descriptor", proxseg::database_info(db)["descriptor"]}};
+  report["proxseg"] = proxseg::build_info();
   report["parameters"] = {{"recognition", proxseg::to_json(rec)}};
   if (!object) report["parameters"]["segmentation"] = proxseg::to_json(seg);
   nlohmann::json list = nlohmann::json::array();

@@ -2,6 +2,7 @@
 #include <proxseg/io.hpp>
 #include <proxseg/output.hpp>
 #include <proxseg/params.hpp>
+#include <proxseg/version.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -158,6 +159,7 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
 nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
                                    const SegmentResult& r) {
   nlohmann::json j;
+  j["proxseg"] = build_info();
   j["parameters"] = to_json(params);
   // Finite points too far out to voxelise (|x| / voxel size beyond 1e9) are left unlabelled like
   // invalid ones; counted here so that they are not dropped silently.
@@ -215,6 +217,10 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
                     {"candidates", objects}};
   j["candidates"] = candidates;
   return j;
+}
+
+nlohmann::json build_info() {
+  return {{"version", version()}, {"commit", git_commit()}};
 }
 
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,

@@ -1,5 +1,6 @@
 // The proxseg command line: outputs, exit codes (0 ok, 1 bad input, 2 usage), error messages.
 #include <proxseg/io.hpp>
+#include <proxseg/version.hpp>
 
 #include "cli_util.hpp"
 
@@ -31,6 +32,19 @@ TEST(Cli, HelpOnEveryCommand) {
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;
   }
+}
+
+TEST(Cli, VersionNamesTheReleaseAndTheCommit) {
+  const CliRun r = run("--version");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, std::string("proxseg ") + PROXSEG_VERSION + " (commit " + proxseg::git_commit() +
+                       ")\n");
+  EXPECT_STREQ(proxseg::version(), PROXSEG_VERSION);
+  // 12 hex digits of `git describe` (with -dirty for a modified tree), or "unknown" outside git.
+  const std::string commit = proxseg::git_commit();
+  EXPECT_TRUE(commit == "unknown" ||
+              (commit.size() >= 12 && commit.find_first_not_of("0123456789abcdef") >= 12))
+      << commit;
 }
 
 TEST(Cli, UsageErrorsExitTwo) {
@@ -88,6 +102,10 @@ TEST(Cli, JsonOnStdoutConfigAndFlags) {
   EXPECT_EQ(j["parameters"]["mrf"]["pairwise_weight"], 0.1);  // the flag wins
   EXPECT_EQ(j["parameters"]["mrf"]["enabled"], false);
   EXPECT_EQ(j["mrf"]["energy_after"], j["mrf"]["energy_before"]);
+
+  // Every report says which build made it.
+  EXPECT_EQ(j["proxseg"]["version"], PROXSEG_VERSION);
+  EXPECT_EQ(j["proxseg"]["commit"], proxseg::git_commit());
 
   // Sweeps: the flag reaches the parameters and caps the MRF's cycles.
   const CliRun one = run("segment " + learn0() + " -o " + o.string() + " --mrf-cycles 1 --json");
@@ -227,7 +245,9 @@ TEST(Cli, EvalSegBatchWritesCsvAndSummaries) {
        {"| predictions | boxes | 1 | 1.000 |", "| predictions | stacked | 1 | 1.000 |",
         "| predictions | all | 2 | 1.000 |"})
     EXPECT_NE(md.find(row), std::string::npos) << row << "\n" << md;
-  EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["summary"].size(), 3u);
+  const auto eval_summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(eval_summary["summary"].size(), 3u);
+  EXPECT_EQ(eval_summary["proxseg"]["commit"], proxseg::git_commit());
   // Segmenting each scene (no --pred-dir): the method is named after the preset.
   fs::remove(dir / "learn20.pcd");
   fs::remove(dir / "milk.pcd");
@@ -280,6 +300,7 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
     }
   }
   EXPECT_EQ(report["parameters"]["recognition"]["merge_distance"], 0.03);
+  EXPECT_EQ(report["proxseg"]["version"], PROXSEG_VERSION);
   EXPECT_TRUE(report["parameters"].contains("recognition"));
   EXPECT_TRUE(report["parameters"].contains("segmentation"));
   const cv::Mat png = cv::imread(o.string() + ".png");
@@ -320,6 +341,7 @@ TEST(Cli, SegmentBatchWritesEverySceneAndReportsTheBadOnes) {
   const auto summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary, nlohmann::json::parse(slurp(out / "summary.json")));
   EXPECT_EQ(summary["scenes_total"], 3);
+  EXPECT_EQ(summary["proxseg"]["version"], PROXSEG_VERSION);
   EXPECT_EQ(summary["scenes_done"], 2);
   EXPECT_EQ(summary["scenes_failed"], 1);
   EXPECT_FALSE(summary["interrupted"].get<bool>());

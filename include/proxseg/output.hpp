@@ -9,7 +9,12 @@
 
 namespace proxseg {
 
-// The report written to PREFIX.json: parameters, stage times, counts, energies, label sizes.
+// What made a report: {"version": PROXSEG_VERSION, "commit": git_commit()}; every JSON report
+// of the CLI carries it under "proxseg", beside its parameters.
+nlohmann::json build_info();
+
+// The report written to PREFIX.json: proxseg's build_info, parameters, stage times, counts,
+// energies, label sizes.
 nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
                                    const SegmentResult& result);
 // A picture of the labels: the colour image with labels blended in and boundaries drawn
