@@ -60,12 +60,6 @@ using Col = Eigen::Vector3d;     // 0..255 per channel
 // ---------------------------------------------------------------------------------------------
 // Random numbers: splitmix64 only (std:: distributions differ between standard libraries).
 
-std::uint64_t mix64(std::uint64_t x) {
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
 struct Rng {
   SplitMix s;
   std::uint64_t next() { return s.next(); }

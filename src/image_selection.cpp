@@ -5,6 +5,7 @@
 #include <proxseg/selection.hpp>
 
 #include "selection_detail.hpp"
+#include "union_find.hpp"
 
 #include <omp.h>
 #include <Eigen/Eigenvalues>
@@ -337,16 +338,7 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
           break;
         }
     }
-  std::vector<int> parent(count);
-  for (int c = 0; c < count; ++c) parent[c] = c;
-  auto find = [&](int c) {
-    while (parent[c] != c) c = parent[c] = parent[parent[c]];
-    return c;
-  };
-  auto unite = [&](int a, int b) {
-    const int ra = find(a), rb = find(b);
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-  };
+  detail::UnionFind sets(static_cast<std::size_t>(count));
   std::vector<std::vector<int>> points(count);
   for (int p = 0; p < static_cast<int>(comp.size()); ++p)
     if (comp[p] >= 0) points[comp[p]].push_back(p);
@@ -358,7 +350,7 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
     if (pair.second != kPlane && e.links >= params.merge_min_links &&
         e.concave <= params.merge_max_concave_share * e.links &&
         e.agree >= params.merge_min_agreement * e.links)
-      unite(pair.first, pair.second);
+      sets.unite(pair.first, pair.second);
   // An island in missing data (most of its border beside missing pixels: the inside of a mug
   // whose rim the camera lost all round) joins the component it has the most rays to.
   std::vector<std::pair<int, int>> best_bridge(count, {0, -1});  // (rays, component)
@@ -370,9 +362,9 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
     if (border_pixels[c] > 0 &&
         beside_missing[c] >= params.island_missing_share * border_pixels[c] &&
         best_bridge[c].first >= params.merge_min_links)
-      unite(c, best_bridge[c].second);
+      sets.unite(c, best_bridge[c].second);
   for (int& c : comp)
-    if (c >= 0) c = to_plane[c] ? kPlane : find(c);
+    if (c >= 0) c = to_plane[c] ? kPlane : sets.find(c);
 }
 
 // Components under min_points join the neighbour (another component or the plane) they share the

@@ -3,28 +3,14 @@
 #include <proxseg/pipeline.hpp>
 
 #include "run_beside.hpp"
+#include "stopwatch.hpp"
 
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include <omp.h>
 
-#include <chrono>
-
 namespace proxseg {
 namespace {
-
-class Stopwatch {
- public:
-  double lap() {
-    const auto now = std::chrono::steady_clock::now();
-    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
-    last_ = now;
-    return ms;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 // The clustered voxel whose label each voxel takes: its own index in `clustered` if it was
 // clustered, else the nearest clustered voxel by voxel centroid; -1 if there is none.
@@ -75,7 +61,7 @@ std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& gri
 SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   validate(params);
   SegmentResult r;
-  Stopwatch watch, whole;
+  detail::Stopwatch watch, whole;
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
   r.voxels = build_voxels(frame, params.voxels.voxel_size);
@@ -110,7 +96,7 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   GridSurfaces surfaces;
   double surfaces_ms = 0;
   auto read_geometry = [&] {
-    Stopwatch own;
+    detail::Stopwatch own;
     surfaces = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
     surfaces_ms = own.lap();
   };

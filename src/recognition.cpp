@@ -1,12 +1,14 @@
 // Recognition [paper 3.4, Algorithm 3].
 #include <proxseg/recognition.hpp>
 
+#include "splitmix.hpp"
+#include "stopwatch.hpp"
+
 #include <omp.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -14,17 +16,9 @@
 namespace proxseg {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-// splitmix64: one independent RANSAC stream per view from the one seed.
+// splitmix64's first draw from state x: one independent RANSAC stream per view from the one seed.
 std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
+  return SplitMix{x}.next();
 }
 
 constexpr int kBatch = 8;  // views per early-exit check; fixed, so answers do not depend on threads
@@ -45,7 +39,7 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   r.alignments.assign(n, Alignment{});
   std::vector<char> done(n, 0);
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
-  const auto t0 = Clock::now();
+  const detail::Stopwatch align_watch;
   const Cloud sample = subsample(candidate, params.registration.max_points);
   for (int begin = 0; begin < n; begin += kBatch) {
     const int end = std::min(n, begin + kBatch);
@@ -63,7 +57,7 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
       if (good) break;
     }
   }
-  r.align_ms = ms_since(t0);
+  r.align_ms = align_watch.ms();
   // Algorithm 3: the best view names the candidate; ties go to the earlier view.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
@@ -132,13 +126,13 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
                                          const std::function<void(const SceneObject&)>& progress) {
   // Pieces too small for a description (under 10 voxels) stay unrecognised and are not made.
   auto recognise = [&](SceneObject o, Piece& out) {
-    const auto t = Clock::now();
+    const detail::Stopwatch describe_watch;
     try {
       out.cloud = describe_candidate(xyz_of(frame, o.points), db);
     } catch (const InputError&) {
       return false;
     }
-    const double describe_ms = ms_since(t);
+    const double describe_ms = describe_watch.ms();
     o.recognition = recognize(out.cloud, db, params);
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);

@@ -4,6 +4,7 @@
 #include <proxseg/selection.hpp>
 
 #include "selection_detail.hpp"
+#include "union_find.hpp"
 
 #include <open3d/geometry/KDTreeFlann.h>
 
@@ -123,20 +124,6 @@ class CellIndex {
   std::vector<CellKey> cells_;
   std::vector<int> begin_, order_;
   CellMap lookup_;
-};
-
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  // The smaller root wins, so the result does not depend on the order of unions.
-  void unite(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
 };
 
 // Local surface of every voxel: centroid and normal (smallest principal axis of its points,
@@ -287,11 +274,9 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
       ++e.first;
       e.second += concave(surface, static_cast<int>(u), v, cos_tolerance);
     }
-  std::map<int, int> parent;
-  auto find = [&](int a) {
-    while (parent.count(a) && parent[a] != a) a = parent[a];
-    return a;
-  };
+  const int count =
+      component.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;
+  detail::UnionFind sets(static_cast<std::size_t>(std::max(count, 0)));
   auto coplanar = [&](const Candidate& a, const Candidate& b) {
     const Eigen::Vector3d na = a.box.axes.col(2), nb = b.box.axes.col(2);
     return std::abs(na.dot(nb)) >= cos_tolerance &&
@@ -306,13 +291,10 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
                                      *pieces.at(a != background.end() ? pair.second : pair.first))
                           : e.first >= params.merge_min_boundary &&
                                 e.second <= params.merge_max_concave_share * e.first;
-    if (join) {
-      const int ra = find(pair.first), rb = find(pair.second);
-      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    }
+    if (join) sets.unite(pair.first, pair.second);
   }
   for (int& c : component)
-    if (c >= 0) c = find(c);
+    if (c >= 0) c = sets.find(c);
 }
 
 // Per point, the number of points of its own cluster within radius (itself included), scaled by
@@ -374,7 +356,7 @@ std::vector<int> euclidean_components(const Frame& frame, const std::vector<int>
         if (dx || dy || dz) offsets.emplace_back(dx, dy, dz);
   std::stable_sort(offsets.begin(), offsets.end(),
                    [](const auto& a, const auto& b) { return a.squaredNorm() < b.squaredNorm(); });
-  UnionFind sets(index.cells());
+  detail::UnionFind sets(index.cells());
   for (int c = 0; c < static_cast<int>(index.cells()); ++c) {
     const CellKey k = index.cell(c);
     for (const Eigen::Vector3i& d : offsets) {
@@ -396,7 +378,6 @@ std::vector<int> euclidean_components(const Frame& frame, const std::vector<int>
     for (int i = index.begin(c); i < index.end(c); ++i) component[order[i]] = sets.find(c);
   return component;
 }
-
 
 }  // namespace
 
