@@ -2,12 +2,13 @@
 #include <proxseg/frame.hpp>
 #include <proxseg/registration.hpp>
 
+#include "stopwatch.hpp"
+
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/pipelines/registration/Feature.h>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -40,11 +41,6 @@ struct SearchIndex {
 };
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 PointGrid make_grid(const std::vector<Eigen::Vector3d>& points) {
   PointGrid g;
@@ -131,12 +127,8 @@ double median_spacing(const Cloud& c) {
   return d[d.size() / 2];
 }
 
-// Meant to round to the nearest float (what a cloud stores in its PCD and cache). GCC 12 at -O2/-O3
-// folds this double -> float -> double round trip away in describe_filtered()'s loops (it rounds
-// at -O1 or with -fno-tree-vectorize), so in the release build points and normals stay in double
-// and a restored view equals the described one only to float precision. Making the rounding
-// real (through a volatile) moved one foam-brick pose of the YCB test below its floor: the
-// recognition results here were measured with the folded build; see the issue 4 closing note.
+// Rounds each coordinate to float precision and back: the precision a cloud has in a PCD file or
+// in the database cache.
 Eigen::Vector3d round_to_float(const Eigen::Vector3d& v) {
   return {static_cast<double>(static_cast<float>(v.x())),
           static_cast<double>(static_cast<float>(v.y())),
@@ -227,8 +219,9 @@ bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance
          (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm() < distance;
 }
 
-// RANSAC over feature correspondences. A sample of three pairs is pre-rejected unless its edge
-// lengths agree in both clouds (as PCL's prerejective alignment). Hypotheses are ranked by the
+// RANSAC over feature correspondences. A sample of two pairs with their normals is pre-rejected
+// unless it looks alike in both clouds (its point-pair feature; as PCL's prerejective alignment
+// does with the edge lengths of three). Hypotheses are ranked by the
 // correspondences they explain, which needs no nearest-neighbour search; the few best distinct
 // ones are refitted on their inliers and judged by their true overlap with the view, because on
 // boxes and cans many wrong poses explain as many feature pairs as the right one.
@@ -335,9 +328,9 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
   return top;
 }
 
-// ICP refinement. The candidate's points are matched into the view's kd-tree (built once, when
-// the view entered the database): every candidate point should lie on the model, while the view
-// may show more of the object than the candidate does.
+// ICP refinement. The candidate's points are matched into the view's point grid (PointGrid, built
+// once, when the view entered the database): every candidate point should lie on the model, while
+// the view may show more of the object than the candidate does.
 Eigen::Matrix4d icp(const Cloud& cand, const Cloud& view, Eigen::Matrix4d pose,
                     const RegistrationParams& p, int& iterations) {
   Eigen::Matrix4d inv = pose.inverse();  // model <- candidate
@@ -564,7 +557,7 @@ Alignment align(const Cloud& candidate, const Cloud& view, const RegistrationPar
 Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud& view,
                 const RegistrationParams& params, std::uint64_t seed) {
   Alignment a;
-  auto t0 = Clock::now();
+  detail::Stopwatch watch;
   std::mt19937_64 rng(seed);
   const int blocks = static_cast<int>(view.features.rows()) / kFpfhBins;
   std::vector<Hypothesis> top;
@@ -591,8 +584,7 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
     top.assign(1, h);
   }
   a.ransac_inliers = top[0].inliers;
-  a.ransac_ms = ms_since(t0);
-  t0 = Clock::now();
+  a.ransac_ms = watch.lap();
   // ICP from the best few hypotheses; near-symmetric objects (boxes, bricks) have several
   // hypotheses of almost equal overlap, and only after ICP does the right one stand out.
   double best = -1;
@@ -610,14 +602,13 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
       a.icp_iterations = iterations;
     }
   }
-  a.icp_ms = ms_since(t0);
-  t0 = Clock::now();
+  a.icp_ms = watch.lap();
   const Alignment scored = score_pose(candidate_all, view, a.pose, params);
   a.fitness = scored.fitness;
   a.close_fitness = scored.close_fitness;
   a.coverage = scored.coverage;
   a.rmse = scored.rmse;
-  a.score_ms = ms_since(t0);
+  a.score_ms = watch.lap();
   return a;
 }
 

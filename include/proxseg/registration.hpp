@@ -49,7 +49,7 @@ struct RegistrationParams {
 
 // A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
 // its viewpoint, FPFH features (one column per point) and search indexes.
-struct SearchIndex;  // kd-trees over points and features (src/registration.cpp)
+struct SearchIndex;  // point grid and feature matrices (src/registration.cpp)
 struct Cloud {
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> normals;
