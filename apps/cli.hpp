@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "progress.hpp"
+
 namespace cli {
 
 // The scene input and the segmentation flags of `segment` and `recognize`.
@@ -31,18 +33,6 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentP
 proxseg::Frame read_input(const SegmentOptions& o);
 // Creates the parent directory of path (InputError if it cannot).
 void make_parent(const std::string& path);
-
-// A progress bar on stderr for batch work: redrawn in place on a terminal, one line per step
-// otherwise (logs stay readable in CI).
-class Progress {
- public:
-  explicit Progress(std::size_t total);
-  void step(const std::string& what);
-
- private:
-  std::size_t total_, done_ = 0;
-  bool tty_;
-};
 
 // Interrupts (SIGINT, SIGTERM) during batch work: after catch_interrupts(), the first one only
 // sets interrupted(), so that the batch stops between items with whole output files and writes

@@ -122,22 +122,6 @@ void check_scene_options(const SegmentOptions& o, const std::vector<std::string>
         throw CLI::ValidationError("--output would overwrite the input " + in);
 }
 
-Progress::Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
-
-void Progress::step(const std::string& what) {
-  ++done_;
-  if (tty_) {
-    const int width = 30,
-              filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
-    std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
-              << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
-    if (done_ == total_) std::cerr << "\n";
-  } else if (total_ <= 200 || done_ % ((total_ + 199) / 200) == 0 || done_ == total_) {
-    // At most about 200 lines in a log, whatever the batch size.
-    std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
-  }
-}
-
 namespace {
 // The one piece of process state a signal handler may touch (async-signal-safe).
 volatile std::sig_atomic_t interrupt_signal = 0;

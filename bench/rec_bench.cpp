@@ -36,6 +36,8 @@
 #include <thread>
 #include <vector>
 
+#include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
+
 #ifdef PROXSEG_WITH_PEERS
 #include "peers_rec.hpp"
 #endif
@@ -335,30 +337,6 @@ bool plot(const std::filesystem::path& dir, const std::string& name, const std::
   return true;
 }
 
-// A progress bar on stderr (as the proxseg CLI's batch commands draw it): redrawn in place on a
-// terminal, one line per step otherwise (logs stay readable in CI).
-class Progress {
- public:
-  explicit Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
-  void step(const std::string& what) {
-    ++done_;
-    if (tty_) {
-      const int width = 30,
-                filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
-      std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
-                << done_ << "/" << total_ << " " << what << "\033[K" << std::flush;
-      if (done_ == total_) std::cerr << "\n";
-    } else if (total_ <= 200 || done_ % ((total_ + 199) / 200) == 0 || done_ == total_) {
-      // At most about 200 lines in a log, whatever the batch size.
-      std::cerr << "[" << done_ << "/" << total_ << "] " << what << "\n";
-    }
-  }
-
- private:
-  std::size_t total_, done_ = 0;
-  bool tty_;
-};
-
 int run(const Options& o) {
   namespace fs = std::filesystem;
   const std::vector<std::string> peers = peer_list(o.peers);
@@ -481,7 +459,7 @@ int run(const Options& o) {
   for (Row& r : rows) r.run(clean.front());
   std::size_t steps = 0;
   for (const Row& r : rows) steps += r.clean_tests + r.occluded_tests;
-  Progress progress(steps);
+  cli::Progress progress(steps);
   for (Row& r : rows) {
     for (int i = 0; i < r.clean_tests; ++i) {
       r.clean.push_back(r.run(clean[i]));
