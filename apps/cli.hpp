@@ -66,6 +66,7 @@ struct RecognizeOptions : SegmentOptions {
   std::string db, output, object, config;
   std::optional<std::string> score;
   std::optional<double> min_score, early_exit, fitness_distance, split_fitness, merge_distance;
+  std::optional<int> shortlist;
   std::optional<int> ransac_iterations, icp_iterations;
   std::optional<std::uint64_t> seed;
   bool point_to_plane = false, json = false;

@@ -75,7 +75,8 @@ proxseg::Database open_for_adding(const DbOptions& o) {
 
 void report(const proxseg::ModelView& v) {
   std::cerr << "proxseg: added " << v.object << " view " << v.file << " (" << v.cloud.size()
-            << " points) from " << v.source << "\n";
+            << " points" << (v.cloud.colours.empty() ? ", no colour: recognised by shape alone" : "")
+            << ") from " << v.source << "\n";
 }
 
 int run_add(const DbOptions& o) {
@@ -89,7 +90,6 @@ int run_add(const DbOptions& o) {
   if (!o.xyz.empty()) {
     proxseg::Frame f;
     for (const auto& p : proxseg::read_xyz(o.xyz)) f.xyz.push_back(p.cast<float>());
-    f.rgb.assign(f.xyz.size(), proxseg::Rgb{128, 128, 128});
     f.width = static_cast<int>(f.xyz.size());
     f.height = 1;
     views.emplace_back(std::move(f), o.xyz);

@@ -31,9 +31,12 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults "
                   "(same layout as the report's \"parameters\")");
   cmd->add_option("--score", o.score,
-                  "Ranking score: symmetric (fitness and model coverage) or fitness (paper eq. 5)")
-      ->check(CLI::IsMember({"symmetric", "fitness"}));
+                  "Ranking score: colour (symmetric x colour agreement), symmetric (fitness and "
+                  "model coverage, geometry only) or fitness (paper eq. 5)")
+      ->check(CLI::IsMember({"colour", "symmetric", "fitness"}));
   cmd->add_option("--min-score", o.min_score, "Below this best score the answer is \"unknown\"");
+  cmd->add_option("--shortlist", o.shortlist,
+                  "Views aligned per candidate: the nearest by signature (0 = every view)");
   cmd->add_option("--early-exit", o.early_exit,
                   "Stop after the batch of 8 views in which a view reached this score (faster; "
                   "may change the answer)");
@@ -63,7 +66,10 @@ double ms_since(Clock::time_point t) {
 proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
                                               proxseg::RecognitionParams p) {
   if (o.score)
-    p.score = *o.score == "fitness" ? proxseg::Score::kFitness : proxseg::Score::kSymmetric;
+    p.score = *o.score == "fitness"     ? proxseg::Score::kFitness
+              : *o.score == "symmetric" ? proxseg::Score::kSymmetric
+                                        : proxseg::Score::kColour;
+  if (o.shortlist) p.shortlist = *o.shortlist;
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
@@ -78,7 +84,8 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   return p;
 }
 
-proxseg::RecognizedObject recognise(const std::vector<Eigen::Vector3d>& points, int id,
+proxseg::RecognizedObject recognise(const std::vector<Eigen::Vector3d>& points,
+                                    const std::vector<proxseg::Rgb>& colours, int id,
                                     const proxseg::Database& db,
                                     const proxseg::RecognitionParams& params) {
   proxseg::RecognizedObject o;
@@ -87,7 +94,8 @@ proxseg::RecognizedObject recognise(const std::vector<Eigen::Vector3d>& points, 
   for (const auto& p : points) o.centroid += p;
   if (!points.empty()) o.centroid /= double(points.size());
   const auto t = Clock::now();
-  const proxseg::Cloud cloud = proxseg::describe_candidate(points, db);
+  const proxseg::Cloud cloud =
+      proxseg::describe_candidate(points, db, colours.empty() ? nullptr : &colours);
   const double describe_ms = ms_since(t);
   o.recognition = proxseg::recognize(cloud, db, params);
   o.recognition.describe_ms = describe_ms;
@@ -135,9 +143,14 @@ int run_recognize(const RecognizeOptions& o) {
   if (object) {
     frame = proxseg::read_point_cloud(o.object);
     std::vector<Eigen::Vector3d> points;
+    std::vector<proxseg::Rgb> colours;
+    const bool coloured = frame.rgb.size() == frame.size();
     for (std::size_t i = 0; i < frame.size(); ++i)
-      if (frame.valid(i)) points.push_back(frame.xyz[i].cast<double>());
-    objects.push_back(recognise(points, 0, db, rec));
+      if (frame.valid(i)) {
+        points.push_back(frame.xyz[i].cast<double>());
+        if (coloured) colours.push_back(frame.rgb[i]);
+      }
+    objects.push_back(recognise(points, colours, 0, db, rec));
   } else {
     frame = read_input(o);
     std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"

@@ -18,6 +18,7 @@ namespace {
 constexpr char kMagic[8] = {'P', 'X', 'S', 'G', 'F', 'P', 'F', '1'};
 constexpr int kVersion = 1;
 const char* const kFormat = "proxseg-model-database";
+const Rgb kNoColour = {128, 128, 128};  // what a view from an XYZ-only cloud stores in its PCD
 
 [[noreturn]] void fail(const std::string& where, const std::string& what) {
   throw InputError(where + ": " + what);
@@ -56,6 +57,7 @@ std::string cache_bytes(const Cloud& c) {
 }
 
 Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
+                 std::vector<Rgb> colours,
                  std::size_t expected_dims) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the feature cache (expected the file named in index.json)");
@@ -95,7 +97,7 @@ Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
       features(i, j) = *f;
     }
   return restore(std::move(points), std::move(normals), std::move(features),
-                 Eigen::Vector3d(vp[0], vp[1], vp[2]));
+                 Eigen::Vector3d(vp[0], vp[1], vp[2]), std::move(colours));
 }
 
 // A view's files must lie inside the database directory: the index is data, and must not make
@@ -105,6 +107,24 @@ void check_inside(const std::string& where, const std::string& rel) {
   const bool up = std::any_of(p.begin(), p.end(), [](const fs::path& c) { return c == ".."; });
   if (rel.empty() || p.is_absolute() || up)
     fail(where, "view file \"" + rel + "\" is not a relative path inside the database directory");
+}
+
+// Whether a view's colours say anything: a captured or rendered surface never has one colour at
+// every point, while a model painted with a placeholder (PCL's milk.pcd is (0, 0, 255)
+// throughout) or stored from an XYZ-only cloud (kNoColour) does.
+bool informative(const std::vector<Rgb>& colours) {
+  return std::any_of(colours.begin(), colours.end(),
+                     [&](const Rgb& c) { return c != colours.front(); });
+}
+
+// A view's colours, or none: "colour": false in the index, or colours that say nothing.
+std::vector<Rgb> view_colours(const std::string& where, const nlohmann::json& view,
+                              const Frame& f) {
+  if (view.contains("colour")) {
+    if (!view["colour"].is_boolean()) fail(where, "field \"colour\": expected true or false");
+    if (!view["colour"].get<bool>()) return {};
+  }
+  return informative(f.rgb) ? f.rgb : std::vector<Rgb>{};
 }
 
 // File-name-safe form of an object name.
@@ -144,6 +164,7 @@ void write_index(const Database& db) {
                        {"points", v.cloud.size()},
                        {"viewpoint", vp.allFinite() ? nlohmann::json{vp.x(), vp.y(), vp.z()}
                                                     : nlohmann::json(nullptr)},
+                       {"colour", !v.cloud.colours.empty()},
                        {"source", v.source}});
     }
     objects.push_back({{"name", name}, {"views", views}});
@@ -219,7 +240,7 @@ Database load_database(const std::string& dir) {
         if (f.valid(i)) points.push_back(f.xyz[i].cast<double>());
       if (points.size() != f.size()) fail(pcd, "has invalid points (expected a filtered view)");
       mv.cloud = read_cache((fs::path(dir) / mv.features).string(), std::move(points),
-                            33 * db.descriptor.fpfh_radii.size());
+                            view_colours(where, v, f), 33 * db.descriptor.fpfh_radii.size());
       db.views.push_back(std::move(mv));
     }
   }
@@ -245,7 +266,7 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   for (std::size_t i = 0; i < points.size(); ++i)
     if (points.valid(i)) {
       xyz.push_back(points.xyz[i].cast<double>());
-      rgb.push_back(points.rgb.size() == points.size() ? points.rgb[i] : Rgb{128, 128, 128});
+      rgb.push_back(points.rgb.size() == points.size() ? points.rgb[i] : kNoColour);
     }
   std::vector<Rgb> colours;
   const auto filtered = voxel_filter(xyz, db.descriptor.voxel_size, &rgb, &colours);
@@ -255,7 +276,9 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   ModelView v;
   v.object = object;
   v.source = source;
-  v.cloud = describe_filtered(filtered, viewpoint, db.descriptor);
+  const bool coloured = points.rgb.size() == points.size() && informative(colours);
+  v.cloud = describe_filtered(filtered, viewpoint, db.descriptor,
+                              coloured ? colours : std::vector<Rgb>{});
   int number = 0;
   for (const ModelView& w : db.views) number += w.object == object;
   std::string stem;

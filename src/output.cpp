@@ -261,8 +261,8 @@ nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
   const auto match = [&](const Match& m) -> nlohmann::json {
     if (m.view < 0) return nullptr;
     return {{"name", m.object},     {"view", db.views[m.view].file}, {"score", m.score},
-            {"fitness", m.fitness}, {"coverage", m.coverage},        {"rmse", m.rmse},
-            {"pose", rows(m.pose)}};
+            {"fitness", m.fitness}, {"coverage", m.coverage},        {"colour", m.colour},
+            {"rmse", m.rmse},       {"pose", rows(m.pose)}};
   };
   nlohmann::json j = {{"id", o.id},
                       {"instances", o.instances},
@@ -278,6 +278,7 @@ nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
     j["score"] = r.best.score;
     j["fitness"] = r.best.fitness;
     j["coverage"] = r.best.coverage;
+    j["colour"] = r.best.colour;
     j["pose"] = rows(r.best.pose);
   }
   return j;

@@ -22,7 +22,7 @@ void to_json(nlohmann::json& j, MultiRadius m) {
   j = m == MultiRadius::kConcatenate ? "concatenate" : "best_of";
 }
 void to_json(nlohmann::json& j, Score s) {
-  j = s == Score::kFitness ? "fitness" : "symmetric";
+  j = s == Score::kFitness ? "fitness" : s == Score::kSymmetric ? "symmetric" : "colour";
 }
 
 namespace {
@@ -109,6 +109,7 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "score_distance", p.registration.score_distance);
   f("", "score", p.score);
   f("", "min_score", p.min_score);
+  f("", "shortlist", p.shortlist);
   f("", "early_exit", p.early_exit);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
@@ -154,8 +155,10 @@ void read_value(const std::string& name, const json& v, Score& out) {
     out = Score::kFitness;
   else if (v == "symmetric")
     out = Score::kSymmetric;
+  else if (v == "colour")
+    out = Score::kColour;
   else
-    wrong_type(name, "\"fitness\" or \"symmetric\"", v);
+    wrong_type(name, "\"colour\", \"symmetric\" or \"fitness\"", v);
 }
 void read_value(const std::string& name, const json& v, SelectionParams::Geometry& out) {
   if (v == "image")
@@ -416,6 +419,7 @@ void validate(const RecognitionParams& p) {
   require(positive(r.fitness_distance), "registration.fitness_distance", "> 0 metres");
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
   require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
+  require(p.shortlist >= 0, "shortlist", ">= 0 (0 = every view)");
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
   require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");
   require(p.merge_distance >= 0 && p.merge_distance <= 1, "merge_distance", "0 (off) .. 1 metre");

@@ -95,7 +95,9 @@ Database render_database(const std::vector<TestObject>& objects, int views,
       ModelView v;
       v.object = o.name;
       v.source = source;
-      v.cloud = describe(points, rendered[i].eye, descriptor);
+      const std::vector<Rgb>& rgb = rendered[i].points.rgb;
+      v.cloud = describe(points, rendered[i].eye, descriptor,
+                         rgb.size() == points.size() ? &rgb : nullptr);
       db.views.push_back(std::move(v));
     }
   }

@@ -26,14 +26,45 @@ constexpr int kBatch = 8;  // views per early-exit check; fixed, so answers do n
 }  // namespace
 
 double score_of(const Alignment& a, Score score) {
-  return score == Score::kFitness ? a.fitness : std::sqrt(a.close_fitness * a.coverage);
+  switch (score) {
+    case Score::kFitness:
+      return a.fitness;
+    case Score::kSymmetric:
+      return std::sqrt(a.close_fitness * a.coverage);
+    case Score::kColour:
+      return std::sqrt(a.close_fitness * a.coverage) * a.colour;
+  }
+  return 0;
 }
 
-Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db) {
-  return describe(points, Eigen::Vector3d::Zero(), db.descriptor);
+Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
+                         const std::vector<Rgb>* colours) {
+  return describe(points, Eigen::Vector3d::Zero(), db.descriptor, colours);
 }
 
-Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params) {
+std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
+                                 const std::vector<std::string>& objects) {
+  std::vector<std::pair<double, int>> ranked;
+  for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
+    if (!objects.empty() &&
+        std::find(objects.begin(), objects.end(), db.views[v].object) == objects.end())
+      continue;
+    ranked.emplace_back(shortlist > 0 ? signature_distance(candidate.signature,
+                                                           db.views[v].cloud.signature)
+                                      : 0.0,
+                        v);
+  }
+  // Ties (and the whole order without a shortlist) go by view index.
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (shortlist > 0 && static_cast<int>(ranked.size()) > shortlist) ranked.resize(shortlist);
+  std::vector<int> out;
+  for (const auto& r : ranked) out.push_back(r.second);
+  return out;
+}
+
+Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
+                      const std::vector<std::string>& objects) {
   Recognition r;
   const int n = static_cast<int>(db.views.size());
   r.alignments.assign(n, Alignment{});
@@ -41,10 +72,13 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
   const detail::Stopwatch align_watch;
   const Cloud sample = subsample(candidate, params.registration.max_points);
-  for (int begin = 0; begin < n; begin += kBatch) {
-    const int end = std::min(n, begin + kBatch);
+  const std::vector<int> views = shortlist_views(candidate, db, params.shortlist, objects);
+  const int m = static_cast<int>(views.size());
+  for (int begin = 0; begin < m; begin += kBatch) {
+    const int end = std::min(m, begin + kBatch);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int v = begin; v < end; ++v) {
+    for (int k = begin; k < end; ++k) {
+      const int v = views[k];
       r.alignments[v] = align(candidate, sample, db.views[v].cloud, params.registration,
                               mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
       done[v] = 1;
@@ -52,8 +86,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     r.views_aligned = end;
     if (params.early_exit > 0) {
       bool good = false;
-      for (int v = begin; v < end; ++v)
-        good |= score_of(r.alignments[v], params.score) >= params.early_exit;
+      for (int k = begin; k < end; ++k)
+        good |= score_of(r.alignments[views[k]], params.score) >= params.early_exit;
       if (good) break;
     }
   }
@@ -61,8 +95,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   // Algorithm 3: the best view names the candidate; ties go to the earlier view.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
-    return Match{db.views[v].object,        v,     a.pose, a.fitness, a.coverage,
-                 score_of(a, params.score), a.rmse};
+    return Match{db.views[v].object,        v,      a.pose,   a.fitness, a.coverage,
+                 score_of(a, params.score), a.rmse, a.colour};
   };
   for (int v = 0; v < n; ++v) {
     if (!done[v]) continue;
@@ -91,6 +125,14 @@ std::vector<Eigen::Vector3d> xyz_of(const Frame& frame, const std::vector<int>& 
   std::vector<Eigen::Vector3d> out;
   out.reserve(points.size());
   for (int p : points) out.push_back(frame.xyz[p].cast<double>());
+  return out;
+}
+
+std::vector<Rgb> rgb_of(const Frame& frame, const std::vector<int>& points) {
+  std::vector<Rgb> out;
+  if (frame.rgb.size() != frame.size()) return out;
+  out.reserve(points.size());
+  for (int p : points) out.push_back(frame.rgb[p]);
   return out;
 }
 
@@ -125,15 +167,17 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
                                          const Database& db, const RecognitionParams& params,
                                          const std::function<void(const SceneObject&)>& progress) {
   // Pieces too small for a description (under 10 voxels) stay unrecognised and are not made.
-  auto recognise = [&](SceneObject o, Piece& out) {
+  // objects: the database objects to try (all when empty).
+  auto recognise = [&](SceneObject o, Piece& out, const std::vector<std::string>& objects = {}) {
     const detail::Stopwatch describe_watch;
     try {
-      out.cloud = describe_candidate(xyz_of(frame, o.points), db);
+      const std::vector<Rgb> rgb = rgb_of(frame, o.points);
+      out.cloud = describe_candidate(xyz_of(frame, o.points), db, rgb.empty() ? nullptr : &rgb);
     } catch (const InputError&) {
       return false;
     }
     const double describe_ms = describe_watch.ms();
-    o.recognition = recognize(out.cloud, db, params);
+    o.recognition = recognize(out.cloud, db, params, objects);
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);
     out.box.setEmpty();
@@ -152,7 +196,8 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
 
   // Split: the model that names a candidate with a poor fitness keeps the points it explains;
   // the rest is recognised on its own (and may be split again). Both parts must be named, so an
-  // object is not cut into itself and its fringe of noise.
+  // object is not cut into itself and its fringe of noise. The explained part is tried against
+  // its model's object only: that is what it is being checked for.
   const std::size_t min_part = static_cast<std::size_t>(params.min_part_points);
   if (params.split_fitness > 0) {
     std::deque<Piece> queue(std::make_move_iterator(pieces.begin()),
@@ -173,8 +218,8 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
           (in[i] ? e : rest).points.push_back(w.object.points[i]);
         Piece pe, pr;
         if (e.points.size() >= min_part && rest.points.size() >= min_part &&
-            recognise(std::move(e), pe) && recognise(std::move(rest), pr) && named(pe) &&
-            named(pr)) {
+            recognise(std::move(e), pe, {r.best.object}) && named(pe) &&
+            recognise(std::move(rest), pr) && named(pr)) {
           pieces.push_back(std::move(pe));
           queue.push_back(std::move(pr));
           split = true;
@@ -185,8 +230,9 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
   }
 
   // Merge: the best-scoring union of two near pieces that beats both parts, until none does.
-  // Unions are recognised once: a piece is known by its first point and its size (pieces are
-  // disjoint, and a merged piece is larger than both of its parts).
+  // A union is tried against the objects its parts are named after: it can only beat a part
+  // as one of them. Unions are recognised once: a piece is known by its first point and its size
+  // (pieces are disjoint, and a merged piece is larger than both of its parts).
   if (params.merge_distance > 0) {
     using Key = std::array<std::size_t, 4>;
     const auto key_of = [](const Piece& a, const Piece& b) {
@@ -214,8 +260,11 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
             std::sort(u.instances.begin(), u.instances.end());
             u.instances.erase(std::unique(u.instances.begin(), u.instances.end()),
                               u.instances.end());
+            std::vector<std::string> objects;
+            for (const Piece* part : {&a, &b})
+              if (named(*part)) objects.push_back(part->object.recognition.best.object);
             Piece p;
-            if (!recognise(std::move(u), p)) continue;
+            if (!recognise(std::move(u), p, objects)) continue;
             it = tried.emplace(key, std::move(p)).first;
           }
           const Piece& u = it->second;
@@ -236,3 +285,4 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
 }
 
 }  // namespace proxseg
+

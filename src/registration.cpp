@@ -98,6 +98,44 @@ int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) 
   return g.order[found];
 }
 
+// Chromaticity (r, g) of a colour, lifted like chromaticity_agreement().
+Eigen::Vector2d chromaticity(const Rgb& c) {
+  const Eigen::Vector3d v = Eigen::Vector3d(c[0], c[1], c[2]).array() + 5;
+  return Eigen::Vector2d(v.x(), v.y()) / v.sum();
+}
+
+Signature make_signature(const Cloud& c) {
+  Signature s;
+  if (c.size() == 0) return s;
+  s.shape = c.features.rowwise().mean().cast<float>();
+  for (int b = 0; b + kFpfhBins <= s.shape.size(); b += kFpfhBins) {
+    const float sum = s.shape.segment(b, kFpfhBins).sum();
+    if (sum > 0) s.shape.segment(b, kFpfhBins) /= sum;
+  }
+  if (!c.colours.empty()) {
+    // 8 x 8 cells over the (r, g) chromaticity square, bilinear votes so that a colour near a
+    // cell border does not jump between cells.
+    constexpr int kCells = 8;
+    s.colour = Eigen::VectorXf::Zero(kCells * kCells);
+    for (const Rgb& rgb : c.colours) {
+      const Eigen::Vector2d x = chromaticity(rgb) * kCells - Eigen::Vector2d::Constant(0.5);
+      const int x0 = static_cast<int>(std::floor(x.x())), y0 = static_cast<int>(std::floor(x.y()));
+      const double fx = x.x() - x0, fy = x.y() - y0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int cx = std::clamp(x0 + dx, 0, kCells - 1), cy = std::clamp(y0 + dy, 0, kCells - 1);
+          s.colour[cy * kCells + cx] +=
+              static_cast<float>((dx ? fx : 1 - fx) * (dy ? fy : 1 - fy));
+        }
+    }
+    s.colour /= s.colour.sum();
+  }
+  double sum2 = 0;
+  for (const auto& p : c.points) sum2 += (p - c.centroid).squaredNorm();
+  s.spread = std::sqrt(sum2 / c.size());
+  return s;
+}
+
 std::shared_ptr<const SearchIndex> build_index(const Cloud& c) {
   auto index = std::make_shared<SearchIndex>();
   index->points = make_grid(c.points);
@@ -409,26 +447,38 @@ std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& po
 }
 
 Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
-               const DescriptorParams& params) {
-  return describe_filtered(voxel_filter(points, params.voxel_size), viewpoint, params);
+               const DescriptorParams& params, const std::vector<Rgb>* colours) {
+  if (colours && colours->size() != points.size())
+    throw InputError("describe: expected one colour per point");
+  std::vector<Rgb> filtered_colours;
+  auto filtered = voxel_filter(points, params.voxel_size, colours, &filtered_colours);
+  return describe_filtered(filtered, viewpoint, params, std::move(filtered_colours));
 }
 
 Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
-                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params) {
+                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params,
+                        std::vector<Rgb> colours) {
+  if (!colours.empty() && colours.size() != points.size())
+    throw InputError("describe: expected one colour per point");
   if (params.fpfh_radii.empty()) throw InputError("fpfh_radii: expected at least one radius");
   for (double r : params.fpfh_radii)
     if (!(r > 0)) throw InputError("fpfh_radii: expected radii > 0");
   if (!(params.normal_radius > 0)) throw InputError("normal_radius: expected > 0");
   open3d::geometry::PointCloud pc;
   pc.points_.reserve(points.size());
-  for (const auto& p : points)
-    if (p.allFinite()) pc.points_.push_back(round_to_float(p));
+  std::vector<Rgb> kept_colours;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].allFinite()) {
+      pc.points_.push_back(round_to_float(points[i]));
+      if (!colours.empty()) kept_colours.push_back(colours[i]);
+    }
   if (pc.points_.size() < 10)
     throw InputError("cloud has " + std::to_string(pc.points_.size()) +
                      " points after the voxel filter (expected at least 10)");
   pc.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(params.normal_radius, 30), false);
   Cloud c;
   c.points = pc.points_;
+  c.colours = std::move(kept_colours);
   c.centroid = mean(c.points);
   c.viewpoint = viewpoint;
   const bool from_viewpoint = viewpoint.allFinite();
@@ -449,12 +499,17 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
   }
   c.index = build_index(c);
   c.spacing = median_spacing(c);
+  c.signature = make_signature(c);
   return c;
 }
 
 Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
-              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint) {
+              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint,
+              std::vector<Rgb> colours) {
+  if (!colours.empty() && colours.size() != points.size())
+    throw InputError("restore: expected one colour per point");
   Cloud c;
+  c.colours = std::move(colours);
   c.points = std::move(points);
   c.normals = std::move(normals);
   c.features = std::move(features);
@@ -462,7 +517,18 @@ Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> 
   c.viewpoint = viewpoint;
   c.index = build_index(c);
   c.spacing = median_spacing(c);
+  c.signature = make_signature(c);
   return c;
+}
+
+double signature_distance(const Signature& a, const Signature& b) {
+  double d = 0;
+  if (a.shape.size() == b.shape.size() && a.shape.size() > 0)
+    d += (a.shape - b.shape).lpNorm<1>() / 2 / (a.shape.size() / kFpfhBins);
+  if (a.colour.size() > 0 && a.colour.size() == b.colour.size())
+    d += (a.colour - b.colour).lpNorm<1>() / 2;
+  if (a.spread > 0 && b.spread > 0) d += std::abs(std::log(a.spread / b.spread));
+  return d;
 }
 
 double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
@@ -540,12 +606,14 @@ Cloud subsample(const Cloud& cloud, int max_points) {
     const std::size_t i = static_cast<std::size_t>(k) * cloud.size() / n;
     s.points.push_back(cloud.points[i]);
     s.normals.push_back(cloud.normals[i]);
+    if (!cloud.colours.empty()) s.colours.push_back(cloud.colours[i]);
     s.features.col(k) = cloud.features.col(i);
   }
   s.centroid = mean(s.points);
   s.viewpoint = cloud.viewpoint;
   s.index = build_index(s);
   s.spacing = cloud.spacing;  // the surface sampling the descriptors were computed at
+  s.signature = cloud.signature;
   return s;
 }
 
@@ -608,6 +676,7 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   a.close_fitness = scored.close_fitness;
   a.coverage = scored.coverage;
   a.rmse = scored.rmse;
+  a.colour = scored.colour;
   a.score_ms = watch.lap();
   return a;
 }
@@ -619,7 +688,39 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
   a.fitness = fitness(candidate, view, pose, params.fitness_distance, &a.rmse);
   a.close_fitness = fitness(candidate, view, pose, params.score_distance);
   a.coverage = coverage(candidate, view, pose, params.score_distance);
+  a.colour = colour_agreement(candidate, view, pose, params.score_distance);
   return a;
+}
+
+double chromaticity_agreement(const Rgb& a, const Rgb& b) {
+  // sigma0: a shaded and a lit side of one paint stay within ~0.02, a red and an orange of the
+  // same brightness are ~0.2 apart. The chromaticity of a dark point is uncertain by about the
+  // sensor's colour noise over its brightness (kNoise levels per channel), so dark points (a
+  // black object) agree with any dark point but not with a bright colour.
+  constexpr double kSigma0 = 0.05, kNoise = 6;
+  const Eigen::Vector3d ca = Eigen::Vector3d(a[0], a[1], a[2]).array() + 1;
+  const Eigen::Vector3d cb = Eigen::Vector3d(b[0], b[1], b[2]).array() + 1;
+  const double sa = ca.sum(), sb = cb.sum();
+  const double sigma2 =
+      kSigma0 * kSigma0 + (kNoise / sa) * (kNoise / sa) + (kNoise / sb) * (kNoise / sb);
+  const double d2 = (ca / sa - cb / sb).squaredNorm();
+  return std::exp(-0.5 * d2 / sigma2);
+}
+
+double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                        double delta) {
+  if (candidate.colours.empty() || view.colours.empty()) return 1;
+  const Eigen::Matrix4d inv = pose.inverse();
+  int n = 0;
+  double sum = 0;
+  for (std::size_t i = 0; i < candidate.size(); ++i) {
+    double d2 = 0;
+    const int j = nearest(view.index->points, apply(inv, candidate.points[i]), delta, d2);
+    if (j < 0 || d2 > delta * delta) continue;
+    ++n;
+    sum += chromaticity_agreement(candidate.colours[i], view.colours[j]);
+  }
+  return n ? sum / n : 0;
 }
 
 }  // namespace proxseg

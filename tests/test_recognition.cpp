@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numeric>
 
@@ -55,7 +56,6 @@ std::vector<Eigen::Vector3d> points_of(const Frame& f, const std::vector<int>& i
 Frame frame_of(const std::vector<Eigen::Vector3d>& pts) {
   Frame f;
   for (const auto& p : pts) f.xyz.push_back(p.cast<float>());
-  f.rgb.assign(pts.size(), Rgb{128, 128, 128});
   f.width = static_cast<int>(pts.size());
   f.height = 1;
   return f;
@@ -92,6 +92,20 @@ TEST(Database, ViewsRoundTripThroughTheCache) {
   }
   EXPECT_LT((after.features - before.features).cwiseAbs().maxCoeff(), 1e-4);
   EXPECT_EQ(after.viewpoint, before.viewpoint);
+  EXPECT_EQ(after.colours, before.colours);
+  ASSERT_EQ(after.colours.size(), after.size());
+  EXPECT_EQ(after.signature.colour, before.signature.colour);
+  // A view from an XYZ-only cloud has no colour once loaded (not the grey its PCD stores).
+  Frame xyz_only;
+  xyz_only.xyz = milk.xyz;
+  xyz_only.width = milk.width;
+  xyz_only.height = milk.height;
+  add_view(db, "milk shape", xyz_only, Eigen::Vector3d::Zero(), "milk.pcd without colour");
+  const Database again = load_database(dir);
+  ASSERT_EQ(again.views.size(), 2u);
+  EXPECT_EQ(again.views[0].cloud.colours.size(), again.views[0].cloud.size());
+  EXPECT_TRUE(again.views[1].cloud.colours.empty());
+  EXPECT_EQ(again.views[1].cloud.signature.colour.size(), 0);
 }
 
 TEST(Database, BrokenDatabasesAreClearErrors) {
@@ -204,6 +218,131 @@ TEST(Registration, RecoversAKnownPoseOfARenderedView) {
   // Same inputs and seed, same answer.
   const Alignment b = align(candidate, view, RegistrationParams{}, 7);
   EXPECT_EQ(a.pose, b.pose);
+}
+
+// Colour in recognition [extension, docs/method.md "Colour in recognition"].
+TEST(Colour, ChromaticityIgnoresBrightnessButNotHue) {
+  const Rgb red{200, 40, 30}, dim_red{80, 16, 12}, orange{200, 110, 30}, black{12, 12, 14};
+  EXPECT_DOUBLE_EQ(chromaticity_agreement(red, red), 1.0);
+  EXPECT_GT(chromaticity_agreement(red, dim_red), 0.8);  // the same paint in shadow
+  EXPECT_LT(chromaticity_agreement(red, orange), 0.3);
+  EXPECT_LT(chromaticity_agreement(red, black), 0.01);
+  EXPECT_GT(chromaticity_agreement(black, Rgb{8, 9, 6}), 0.8);  // sensor noise on black
+}
+
+namespace {
+// A rendered view of a LINEMOD mesh (model frame) and the same view seen by a camera, with its
+// colours passed through `paint`.
+struct SeenView {
+  Cloud view, candidate;
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();  // camera <- model
+};
+SeenView seen_view(const Mesh& mesh, const std::function<Rgb(const Rgb&)>& paint) {
+  ViewSphereParams p;
+  p.views = 4;
+  const auto views = render_views(mesh, p);
+  const Frame& f = views[1].points;
+  std::vector<Eigen::Vector3d> model, seen;
+  std::vector<Rgb> painted;
+  SeenView s;
+  s.truth.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, -2, 1).normalized()).matrix();
+  s.truth.translation() = Eigen::Vector3d(0.02, 0.05, 0.9);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    model.push_back(f.xyz[i].cast<double>());
+    seen.push_back(s.truth * model.back());
+    painted.push_back(paint(f.rgb[i]));
+  }
+  s.view = describe(model, views[1].eye, DescriptorParams{}, &f.rgb);
+  s.candidate = describe(seen, s.truth * views[1].eye, DescriptorParams{}, &painted);
+  return s;
+}
+Rgb dim(const Rgb& c) {
+  return {static_cast<std::uint8_t>(c[0] * 0.5), static_cast<std::uint8_t>(c[1] * 0.5),
+          static_cast<std::uint8_t>(c[2] * 0.5)};
+}
+Rgb blue(const Rgb& c) {
+  return {c[2], c[1], c[0]};
+}
+}  // namespace
+
+TEST(Colour, AgreementOfAnAlignedViewDropsForAnotherPaint) {
+  const Mesh duck = read_mesh(kData + "/lmo/models/obj_000009.ply", 0.001);
+  const RegistrationParams r;
+  const SeenView same = seen_view(duck, dim);
+  EXPECT_GT(colour_agreement(same.candidate, same.view, same.truth.matrix(), r.score_distance),
+            0.9);
+  const SeenView other = seen_view(duck, blue);  // the yellow duck painted blue
+  EXPECT_LT(colour_agreement(other.candidate, other.view, other.truth.matrix(), r.score_distance),
+            0.2);
+  // Without colour on one side, the term stays out of the way.
+  Cloud colourless = other.candidate;
+  colourless.colours.clear();
+  EXPECT_EQ(colour_agreement(colourless, other.view, other.truth.matrix(), r.score_distance), 1.0);
+  // And it shows in the alignment's scores.
+  const Alignment a = score_pose(other.candidate, other.view, other.truth.matrix(), r);
+  EXPECT_GT(score_of(a, Score::kSymmetric), 0.8);
+  EXPECT_LT(score_of(a, Score::kColour), 0.2);
+}
+
+TEST(Recognition, ColourTellsApartTwoObjectsOfOneShape) {
+  const Mesh duck = read_mesh(kData + "/lmo/models/obj_000009.ply", 0.001);
+  Mesh blue_duck = duck;
+  for (auto& c : blue_duck.colours) c = blue(c);
+  Database db;
+  db.descriptor = DescriptorParams{};
+  ViewSphereParams vp;
+  vp.views = 4;
+  const std::vector<std::pair<std::string, const Mesh*>> meshes = {{"duck", &duck},
+                                                                   {"blue duck", &blue_duck}};
+  for (const auto& [name, mesh] : meshes)
+    for (const auto& v : render_views(*mesh, vp)) {
+      std::vector<Eigen::Vector3d> pts;
+      for (const auto& q : v.points.xyz) pts.push_back(q.cast<double>());
+      ModelView m;
+      m.object = name;
+      m.cloud = describe(pts, v.eye, db.descriptor, &v.points.rgb);
+      db.views.push_back(std::move(m));
+    }
+  RecognitionParams colour, shape;
+  shape.score = Score::kSymmetric;
+  const std::vector<std::pair<std::string, Rgb (*)(const Rgb&)>> paints = {{"duck", &dim},
+                                                                           {"blue duck", &blue}};
+  for (const auto& [name, paint] : paints) {
+    // Seen in shadow, from between the database's viewpoints.
+    const Cloud c = seen_view(duck, [p = paint](const Rgb& x) { return dim(p(x)); }).candidate;
+    const Recognition r = recognize(c, db, colour);
+    EXPECT_EQ(r.name, name);
+    EXPECT_GT(r.best.score - r.runner_up.score, 0.3) << name;
+    // Geometry alone cannot tell them apart: the two best scores are close.
+    const Recognition g = recognize(c, db, shape);
+    EXPECT_LT(std::abs(g.best.score - g.runner_up.score), 0.1) << name;
+  }
+}
+
+TEST(Recognition, ShortlistKeepsTheNearestViewsOfTheAskedObjects) {
+  const std::string dir = fresh_dir("db_shortlist");
+  Database db = open_database(dir, DescriptorParams{});
+  add_linemod(db, 4);
+  const Mesh driller = read_mesh(kData + "/lmo/models/obj_000008.ply", 0.001);
+  const Cloud c = seen_view(driller, dim).candidate;
+  const std::vector<int> all = shortlist_views(c, db, 0);
+  ASSERT_EQ(all.size(), db.views.size());
+  for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k], static_cast<int>(k));
+  const std::vector<int> near = shortlist_views(c, db, 6);
+  ASSERT_EQ(near.size(), 6u);
+  EXPECT_EQ(db.views[near[0]].object, "driller");
+  for (std::size_t k = 1; k < near.size(); ++k)
+    EXPECT_LE(signature_distance(c.signature, db.views[near[k - 1]].cloud.signature),
+              signature_distance(c.signature, db.views[near[k]].cloud.signature));
+  const std::vector<int> only = shortlist_views(c, db, 0, {"duck", "cat"});
+  ASSERT_EQ(only.size(), 8u);
+  for (int v : only) EXPECT_TRUE(db.views[v].object == "duck" || db.views[v].object == "cat");
+  // A shortlisted recognition aligns only the shortlist, and still names the driller.
+  RecognitionParams p;
+  p.shortlist = 6;
+  const Recognition r = recognize(c, db, p);
+  EXPECT_EQ(r.views_aligned, 6);
+  EXPECT_EQ(r.name, "driller");
 }
 
 // Acceptance 1: a database of the milk carton and the 8 rendered LINEMOD objects; in the PCL

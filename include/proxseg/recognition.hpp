@@ -19,12 +19,18 @@ enum class Score {
   kSymmetric,  // sqrt(close_fitness x coverage), both within score_distance: also the share of
                // the visible model the candidate explains, so that a small box on the face of a
                // big one does not score 1
+  kColour,     // kSymmetric x the colour agreement of the explained points (Alignment::colour):
+               // tells apart objects of one shape in different colours; geometry alone when the
+               // candidate or the view has no colour
 };
 
 struct RecognitionParams {
   RegistrationParams registration;
-  Score score = Score::kSymmetric;
+  Score score = Score::kColour;
   double min_score = 0.5;  // best score below it: "unknown"
+  // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp)
+  // [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
+  int shortlist = 16;
   // > 0: stop after the first batch of views (8 at a time, in database order) in which some
   // view reached this score. Faster; may change the answer (a later view could score higher).
   double early_exit = 0;
@@ -48,24 +54,32 @@ struct Match {
   int view = -1;                                       // index into Database::views
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
   double fitness = 0, coverage = 0, score = 0, rmse = 0;
+  double colour = 1;  // Alignment::colour
 };
 
 struct Recognition {
   std::string name;  // best.object, or "unknown" when best.score < min_score
   Match best;
   Match runner_up;                    // the best view of any other object
-  std::vector<Alignment> alignments;  // per database view (empty slots if skipped early)
-  int views_aligned = 0;
+  std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
+  int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
   double align_ms = 0;     // wall time over all views
   double describe_ms = 0;  // left to the caller, which describes the candidate (the CLI does)
 };
 
 double score_of(const Alignment& a, Score score);
 
-// Describes the candidate's points (sensor frame; sensor at the origin) like the database views.
-Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db);
-// Algorithm 3 for one described candidate.
-Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params);
+// Describes the candidate's points (sensor frame; sensor at the origin) like the database views,
+// with their colours when given (one per point).
+Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
+                         const std::vector<Rgb>* colours = nullptr);
+// The views recognize() aligns: those of `objects` (every object when empty), the `shortlist`
+// nearest to the candidate by signature (all when 0), nearest first.
+std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
+                                 const std::vector<std::string>& objects = {});
+// Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
+Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
+                      const std::vector<std::string>& objects = {});
 
 // One object of a scene as recognition leaves it: the frame points it holds, the selection
 // instances they came from, and its recognition.

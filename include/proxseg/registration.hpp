@@ -47,6 +47,19 @@ struct RegistrationParams {
   double score_distance = 0.005;
 };
 
+// A cloud's summary, compared before any registration to shortlist the database views worth
+// aligning [extension, docs/method.md "A database that scales"]: cheap to compare, and about the
+// same for two views of one object from nearby directions.
+struct Signature {
+  Eigen::VectorXf shape;   // mean FPFH over the points, each radius block normalised to sum 1
+  Eigen::VectorXf colour;  // chromaticity histogram, sums to 1; empty when the cloud has no colour
+  double spread = 0;       // root mean square distance of the points to their centroid, metres
+};
+// Distance of two signatures: the L1 distances of the shape and colour histograms (each in
+// [0, 1]; the colour term is left out when either has no colour) plus |log| of the spreads'
+// ratio. 0 for equal signatures.
+double signature_distance(const Signature& a, const Signature& b);
+
 // A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
 // its viewpoint, FPFH features (one column per point) and search indexes.
 struct SearchIndex;  // point grid and feature matrices (src/registration.cpp)
@@ -57,6 +70,10 @@ struct Cloud {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the sensor, in the cloud's frame
   double spacing = 0;                                   // median nearest-neighbour distance
+  // Per point colour (the voxel means), empty when the cloud has none (an XYZ-only scan or
+  // model); recognition then judges geometry alone.
+  std::vector<Rgb> colours;
+  Signature signature;
   std::shared_ptr<const SearchIndex> index;
   std::size_t size() const { return points.size(); }
 };
@@ -67,18 +84,21 @@ std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& po
                                           double voxel_size,
                                           const std::vector<Rgb>* colours = nullptr,
                                           std::vector<Rgb>* out_colours = nullptr);
-// Filters, then describe_filtered().
+// Filters, then describe_filtered(). With colours (one per point), the cloud keeps each voxel's
+// mean colour.
 Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
-               const DescriptorParams& params);
+               const DescriptorParams& params, const std::vector<Rgb>* colours = nullptr);
 // Estimates normals (oriented towards viewpoint; away from the centroid when the viewpoint is not
 // finite, for full models), computes FPFH and builds the indexes. The database stores points,
 // normals and features as floats, so a cloud restored from it equals this one to float precision.
-// Throws InputError when there are fewer than 10 points.
+// Throws InputError when there are fewer than 10 points. colours: one per point, or empty.
 Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
-                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params);
+                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params,
+                        std::vector<Rgb> colours = {});
 // Rebuilds a described cloud from stored points, normals and features (database cache).
 Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
-              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint);
+              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint,
+              std::vector<Rgb> colours = {});
 
 // The result of aligning one model view to one candidate.
 struct Alignment {
@@ -88,6 +108,9 @@ struct Alignment {
   double coverage = 0;       // share of the view's points visible from the candidate's viewpoint
                              // that have a candidate point within score_distance (model-side term)
   double rmse = 0;           // of the fitness inliers
+  // Colour agreement of the close_fitness inliers with the view points that explain them, in
+  // [0, 1] (colour_agreement()); 1 when either cloud has no colour.
+  double colour = 1;
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };
@@ -114,6 +137,17 @@ double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d&
                double* rmse = nullptr);
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                 double delta);
+// The colour term [extension, docs/method.md "Colour in recognition"]: the mean agreement, over
+// the candidate points within delta of the posed view, of their chromaticity with that of the
+// nearest view point (chromaticity_agreement()); 1 when either cloud has no colour.
+double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                        double delta);
+// Agreement of two colours in [0, 1]: a Gaussian of the distance between their chromaticities
+// (rgb / (r + g + b)), wider for dark colours, whose chromaticity is mostly sensor noise.
+// Chromaticity ignores brightness, so shading and exposure differences between the database and
+// the scene do not count, while hue and saturation do.
+double chromaticity_agreement(const Rgb& a, const Rgb& b);
+
 // Per point (sensor frame): whether the view, put in place by pose (candidate <- model), has a
 // point within delta of it; the points that eq. 4 counts as explained.
 std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cloud& view,
