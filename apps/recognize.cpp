@@ -6,9 +6,9 @@
 #include <proxseg/pipeline.hpp>
 #include <proxseg/recognition.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 
 #include "cli.hpp"
@@ -24,7 +24,9 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "Scene point cloud (.pcd organized or not, .ply); or use --color/--depth");
   cmd->add_option("--db", o.db, "Model database directory (proxseg db add/render)")->required();
   cmd->add_option("-o,--output", o.output,
-                  "Output prefix: writes PREFIX.json and PREFIX.png (required for a scene)");
+                  "Output prefix: writes PREFIX.json, PREFIX.png (picture with a legend) and, "
+                  "for a scene, PREFIX.pcd (field `object`: the id of the object holding each "
+                  "point); required for a scene");
   cmd->add_option("--object", o.object,
                   "Recognise this one already segmented cloud instead of a scene");
   cmd->add_option("--config", o.config,
@@ -102,6 +104,28 @@ proxseg::RecognizedObject recognise(const std::vector<Eigen::Vector3d>& points,
   return o;
 }
 
+// The objects of a scene with their ids (1.. in recognize_scene's order: each object its own id,
+// instances of one model too) as PREFIX.json and PREFIX.pcd give them.
+std::vector<proxseg::RecognizedObject> recognized_objects(
+    const proxseg::Frame& frame, const std::vector<proxseg::SceneObject>& scene) {
+  std::vector<proxseg::RecognizedObject> objects;
+  for (const auto& s : scene) {
+    proxseg::RecognizedObject r;
+    r.id = static_cast<int>(objects.size()) + 1;
+    r.points = s.points.size();
+    for (int i : s.points) r.centroid += frame.xyz[i].cast<double>();
+    r.centroid /= std::max<double>(1.0, s.points.size());
+    r.instances = s.instances;
+    r.origin = s.origin == proxseg::SceneObject::Origin::kSplit    ? "split"
+               : s.origin == proxseg::SceneObject::Origin::kMerged ? "merged"
+                                                                   : "candidate";
+    r.frame_points = s.points;
+    r.recognition = s.recognition;
+    objects.push_back(std::move(r));
+  }
+  return objects;
+}
+
 void print(const std::vector<proxseg::RecognizedObject>& objects) {
   std::printf("%-4s %-7s %-22s %-6s %-7s %-8s %-22s %s\n", "id", "points", "name", "score",
               "fitness", "coverage", "runner-up", "score");
@@ -113,6 +137,37 @@ void print(const std::vector<proxseg::RecognizedObject>& objects) {
   }
 }
 
+// Segments the frame and recognises every candidate, with a progress bar; the stage times in ms.
+std::vector<proxseg::RecognizedObject> recognise_scene(const proxseg::Frame& frame,
+                                                       const proxseg::SegmentParams& seg,
+                                                       const proxseg::Database& db,
+                                                       const proxseg::RecognitionParams& rec,
+                                                       double& segment_ms, double& recognize_ms) {
+  auto t = Clock::now();
+  const proxseg::SegmentResult result = proxseg::segment(frame, seg);
+  segment_ms = ms_since(t);
+  std::size_t candidates = 0;
+  for (const auto& c : result.selection.components) candidates += !c.background;
+  Progress progress(candidates);
+  t = Clock::now();
+  // The bar counts the candidates; the trials of the split and merge passes are logged.
+  std::size_t steps = 0;
+  const auto scene = proxseg::recognize_scene(
+      frame, result.selection, db, rec, [&](const proxseg::SceneObject& s) {
+        std::string of;
+        for (auto i : s.instances) of += (of.empty() ? "" : "+") + std::to_string(i);
+        if (steps++ < candidates)
+          progress.step("candidate " + of + ": " + s.recognition.name);
+        else
+          std::cerr << "proxseg: "
+                    << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part" : "union")
+                    << " of candidate " << of << ": " << s.recognition.name << "\n";
+      });
+  std::vector<proxseg::RecognizedObject> objects = recognized_objects(frame, scene);
+  recognize_ms = ms_since(t);
+  return objects;
+}
+
 }  // namespace
 
 int run_recognize(const RecognizeOptions& o) {
@@ -120,7 +175,7 @@ int run_recognize(const RecognizeOptions& o) {
   if (object && (!o.input.empty() || !o.color.empty() || !o.depth.empty()))
     throw CLI::ValidationError("--object takes one segmented cloud instead of a scene");
   if (!object && o.output.empty()) throw CLI::ValidationError("a scene needs -o PREFIX");
-  if (!object) check_scene_options(o, {o.output + ".json", o.output + ".png"});
+  if (!object) check_scene_options(o, {o.output + ".pcd", o.output + ".json", o.output + ".png"});
   proxseg::SegmentParams seg = proxseg::preset(o.preset);
   proxseg::RecognitionParams rec;
   if (!o.config.empty()) std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec);
@@ -138,9 +193,9 @@ int run_recognize(const RecognizeOptions& o) {
 
   proxseg::Frame frame;
   std::vector<proxseg::RecognizedObject> objects;
-  double segment_ms = 0;
-  auto t = Clock::now();
+  double segment_ms = 0, recognize_ms = 0;
   if (object) {
+    const auto t = Clock::now();
     frame = proxseg::read_point_cloud(o.object);
     std::vector<Eigen::Vector3d> points;
     std::vector<proxseg::Rgb> colours;
@@ -151,44 +206,13 @@ int run_recognize(const RecognizeOptions& o) {
         if (coloured) colours.push_back(frame.rgb[i]);
       }
     objects.push_back(recognise(points, colours, 0, db, rec));
+    recognize_ms = ms_since(t);
   } else {
     frame = read_input(o);
     std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
               << frame.height << ")\n";
-    const proxseg::SegmentResult result = proxseg::segment(frame, seg);
-    segment_ms = ms_since(t);
-    std::size_t candidates = 0;
-    for (const auto& c : result.selection.components) candidates += !c.background;
-    Progress progress(candidates);
-    t = Clock::now();
-    // The bar counts the candidates; the trials of the split and merge passes are logged.
-    std::size_t steps = 0;
-    const auto scene = proxseg::recognize_scene(
-        frame, result.selection, db, rec, [&](const proxseg::SceneObject& s) {
-          std::string of;
-          for (auto i : s.instances) of += (of.empty() ? "" : "+") + std::to_string(i);
-          if (steps++ < candidates)
-            progress.step("candidate " + of + ": " + s.recognition.name);
-          else
-            std::cerr << "proxseg: "
-                      << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part" : "union")
-                      << " of candidate " << of << ": " << s.recognition.name << "\n";
-        });
-    for (const auto& s : scene) {
-      proxseg::RecognizedObject r;
-      r.id = static_cast<int>(objects.size()) + 1;
-      r.points = s.points.size();
-      for (int i : s.points) r.centroid += frame.xyz[i].cast<double>();
-      r.centroid /= std::max<double>(1.0, s.points.size());
-      r.instances = s.instances;
-      r.origin = s.origin == proxseg::SceneObject::Origin::kSplit    ? "split"
-                 : s.origin == proxseg::SceneObject::Origin::kMerged ? "merged"
-                                                                     : "candidate";
-      r.recognition = s.recognition;
-      objects.push_back(std::move(r));
-    }
+    objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
-  const double recognize_ms = ms_since(t);
 
   nlohmann::json report;
   report["input"] = object ? o.object : (o.input.empty() ? o.color : o.input);
@@ -199,25 +223,14 @@ int run_recognize(const RecognizeOptions& o) {
   report["proxseg"] = proxseg::build_info();
   report["parameters"] = {{"recognition", proxseg::to_json(rec)}};
   if (!object) report["parameters"]["segmentation"] = proxseg::to_json(seg);
-  nlohmann::json list = nlohmann::json::array();
-  for (const auto& obj : objects) list.push_back(proxseg::recognition_json(obj, db));
-  report["candidates"] = list;
+  report["candidates"] = proxseg::recognition_candidates_json(objects, db);
   report["times_ms"] = {{"load_database", load_ms},
                         {"segment", segment_ms},
                         {"recognize", recognize_ms},
                         {"total", ms_since(start)}};
-  if (!o.output.empty()) {
-    // Both files are made in memory first; neither is left behind alone.
-    const std::string png = proxseg::recognition_image_png(frame, objects, db);
-    proxseg::write_file_atomic(o.output + ".json", report.dump(2) + "\n");
-    try {
-      proxseg::write_file_atomic(o.output + ".png", png);
-    } catch (...) {
-      std::error_code ec;
-      std::filesystem::remove(o.output + ".json", ec);
-      throw;
-    }
-  }
+  // PREFIX.pcd (a scene), PREFIX.png and PREFIX.json: all made in memory, then all or none.
+  if (!o.output.empty())
+    report = proxseg::write_recognition(o.output, frame, objects, db, std::move(report), !object);
   if (o.json)
     std::cout << report.dump(2) << "\n";
   else

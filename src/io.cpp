@@ -850,7 +850,7 @@ Frame read_rgbd(const std::string& color_path, const std::string& depth_path, co
   return frame;
 }
 
-void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields) {
+std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields) {
   const std::size_t n = frame.xyz.size();
   if (frame.rgb.size() != n)
     throw std::invalid_argument("write_pcd: frame has " + std::to_string(n) + " points but " +
@@ -898,10 +898,18 @@ void write_pcd(const std::string& path, const Frame& frame, const std::vector<Po
     for (std::size_t f = 0; f < fields.size(); ++f)
       std::memcpy(out + 16 + 4 * f, &fields[f].values[i], 4);
   }
-  write_file_atomic(path, bytes);
+  return bytes;
 }
 
-void write_file_atomic(const std::string& path, const std::string& bytes) {
+void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields) {
+  write_file_atomic(path, pcd_bytes(frame, fields));
+}
+
+namespace {
+
+// The first half of an atomic write: bytes in a temporary file beside path, flushed to disk.
+// Returns the temporary file's path; the caller renames it over path (or removes it).
+fs::path write_beside(const std::string& path, const std::string& bytes) {
   const fs::path target(path);
   if (!target.has_filename())
     fail(path, "cannot write (the path names a directory, expected a file name)");
@@ -937,11 +945,45 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
     fs::remove(tmp, ignore);
     fail(path, "cannot write (" + reason + ")");
   }
-  fs::rename(tmp, target, ec);
+  return tmp;
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, const std::string& bytes) {
+  const fs::path tmp = write_beside(path, bytes);
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignore;
     fs::remove(tmp, ignore);
     fail(path, "cannot write (" + ec.message() + ")");
+  }
+}
+
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  // A directory in the way would only show at its rename, after the others had replaced their
+  // targets: refused before anything is written.
+  for (const auto& [path, bytes] : files) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) fail(path, "cannot write (a directory of that name exists)");
+  }
+  std::vector<fs::path> temps;
+  std::size_t renamed = 0;
+  try {
+    for (const auto& [path, bytes] : files) temps.push_back(write_beside(path, bytes));
+    for (; renamed < files.size(); ++renamed) {
+      std::error_code ec;
+      fs::rename(temps[renamed], files[renamed].first, ec);
+      if (ec) fail(files[renamed].first, "cannot write (" + ec.message() + ")");
+    }
+  } catch (...) {
+    // Every file not yet in place goes, and so do the new ones already in place: never a set
+    // of which some files are new and others missing.
+    std::error_code ignore;
+    for (std::size_t i = 0; i < temps.size(); ++i)
+      fs::remove(i < renamed ? fs::path(files[i].first) : temps[i], ignore);
+    throw;
   }
 }
 

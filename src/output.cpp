@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "image_io.hpp"
 #include "run_beside.hpp"
@@ -284,16 +286,177 @@ nlohmann::json recognition_json(const RecognizedObject& o, const Database& db) {
   return j;
 }
 
-std::string recognition_image_png(const Frame& frame, const std::vector<RecognizedObject>& objects,
-                                  const Database& db) {
+nlohmann::json recognition_candidates_json(const std::vector<RecognizedObject>& objects,
+                                           const Database& db) {
+  const std::vector<Rgb> colours = recognition_colours(objects);
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    list.push_back(recognition_json(objects[i], db));
+    list.back()["colour"] = colours[i];
+  }
+  return list;
+}
+
+std::vector<Rgb> recognition_colours(const std::vector<RecognizedObject>& objects) {
+  // Hue steps in an order that puts neighbouring ids far apart on the colour wheel.
+  static constexpr int kHueOrder[10] = {0, 5, 2, 7, 4, 9, 1, 6, 3, 8};
+  static constexpr int kGreyOrder[8] = {0, 4, 2, 6, 1, 5, 3, 7};
+  static constexpr int kGreyShift[4] = {0, 10, 5, 15};
+  std::vector<Rgb> out;
+  int named = 0, unknown = 0;
+  for (const RecognizedObject& o : objects) {
+    if (o.recognition.name == "unknown" || o.recognition.best.view < 0) {
+      // Greys (r = g = b) never equal a named colour (saturated): "unknown" shows at a glance.
+      const int k = unknown++ % 32;
+      const auto v = static_cast<std::uint8_t>(90 + 20 * kGreyOrder[k % 8] + kGreyShift[k / 8]);
+      out.push_back({v, v, v});
+      continue;
+    }
+    const int k = named++ % 30, tier = k / 10;
+    const double hue = kHueOrder[k % 10] * 18 + (tier ? 9 : 0);      // OpenCV hue: 0..180
+    const cv::Scalar hsv = tier == 0   ? cv::Scalar(hue, 255, 255)   // bright
+                           : tier == 1 ? cv::Scalar(hue, 255, 160)   // dark
+                                       : cv::Scalar(hue, 110, 255);  // pale
+    cv::Mat bgr;
+    cv::cvtColor(cv::Mat(1, 1, CV_8UC3, hsv), bgr, cv::COLOR_HSV2BGR);
+    const cv::Vec3b c = bgr.at<cv::Vec3b>(0, 0);
+    out.push_back({c[2], c[1], c[0]});
+  }
+  return out;
+}
+
+namespace {
+
+// Per frame point the index into objects of the object that holds it, -1 for none.
+std::vector<int> point_owners(const Frame& frame, const std::vector<RecognizedObject>& objects) {
+  std::vector<int> owner(frame.size(), -1);
+  for (std::size_t k = 0; k < objects.size(); ++k)
+    for (int i : objects[k].frame_points) {
+      if (i < 0 || static_cast<std::size_t>(i) >= frame.size())
+        throw std::invalid_argument("recognition_labels: point " + std::to_string(i) +
+                                    " of object " + std::to_string(objects[k].id) +
+                                    " is outside the frame");
+      if (owner[i] >= 0)
+        throw std::invalid_argument("recognition_labels: point " + std::to_string(i) +
+                                    " is held by objects " + std::to_string(objects[owner[i]].id) +
+                                    " and " + std::to_string(objects[k].id));
+      owner[i] = static_cast<int>(k);
+    }
+  return owner;
+}
+
+cv::Scalar bgr(const Rgb& c) {
+  return cv::Scalar(c[2], c[1], c[0]);
+}
+
+// Black or white, whichever reads on c.
+cv::Scalar ink_on(const Rgb& c) {
+  return 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2] > 140 ? cv::Scalar(0, 0, 0)
+                                                          : cv::Scalar(255, 255, 255);
+}
+
+// The object's id in a box of its colour, centred at `at` and kept inside the image.
+void draw_id_tag(cv::Mat& image, int id, const Rgb& colour, cv::Point at) {
+  const std::string text = std::to_string(id);
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline);
+  const int w = size.width + 6, h = size.height + 6;
+  const cv::Point corner(std::clamp(at.x - w / 2, 0, std::max(0, image.cols - w)),
+                         std::clamp(at.y - h / 2, 0, std::max(0, image.rows - h)));
+  const cv::Rect box(corner, cv::Size(w, h));
+  cv::rectangle(image, box, bgr(colour), cv::FILLED);
+  cv::rectangle(image, box, cv::Scalar(0, 0, 0), 1);
+  cv::putText(image, text, corner + cv::Point(3, 3 + size.height), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+              ink_on(colour), 1, cv::LINE_AA);
+}
+
+// The legend's layout: columns of rows right of the scene. Text is OpenCV's Hershey font
+// (cv::putText, in imgproc, which the library links already): no font data of our own to keep,
+// and every glyph a user's name may hold in ASCII.
+constexpr int kLegendColumnWidth = 240, kLegendHeader = 26, kLegendRow = 18, kLegendMargin = 6;
+constexpr int kSwatch = 12;
+constexpr double kLegendFont = 0.42;
+
+// "id name score", the name shortened with ".." to fit a column.
+std::string legend_text(const RecognizedObject& o) {
+  const auto text = [&](const std::string& name) {
+    char score[32];
+    std::snprintf(score, sizeof score, "%.2f", o.recognition.best.score);
+    return std::to_string(o.id) + " " + name + " " + score;
+  };
+  const int room = kLegendColumnWidth - 8 - kSwatch - 6 - 4;
+  const auto fits = [&](const std::string& t) {
+    int baseline = 0;
+    return cv::getTextSize(t, cv::FONT_HERSHEY_SIMPLEX, kLegendFont, 1, &baseline).width <= room;
+  };
+  std::string name = o.recognition.name;
+  if (fits(text(name))) return text(name);
+  while (name.size() > 1 && !fits(text(name + ".."))) name.pop_back();
+  return text(name + "..");
+}
+
+// The scene (w x h, top left) and the legend beside it: per object, in order, a swatch of exactly
+// its colour and "id name score".
+cv::Mat with_legend(const cv::Mat& scene, const std::vector<RecognizedObject>& objects,
+                    const std::vector<Rgb>& colours) {
+  const int rows = std::max(8, (scene.rows - kLegendHeader - kLegendMargin) / kLegendRow);
+  const int columns = std::max<int>(1, (objects.size() + rows - 1) / rows);
+  const int height = std::max(scene.rows, kLegendHeader + rows * kLegendRow + kLegendMargin);
+  cv::Mat image(height, scene.cols + columns * kLegendColumnWidth, CV_8UC3, cv::Scalar(32, 32, 32));
+  scene.copyTo(image(cv::Rect(0, 0, scene.cols, scene.rows)));
+  // Text off grey (r != b), so that no letter's pixels take an unknown object's grey.
+  const cv::Scalar text_colour(205, 225, 235);
+  cv::putText(image, objects.empty() ? "no objects" : "id name score",
+              cv::Point(scene.cols + 8, 18), cv::FONT_HERSHEY_SIMPLEX, kLegendFont, text_colour, 1,
+              cv::LINE_AA);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const int column = static_cast<int>(k) / rows, row = static_cast<int>(k) % rows;
+    const int x = scene.cols + column * kLegendColumnWidth + 8,
+              y = kLegendHeader + row * kLegendRow;
+    cv::rectangle(image, cv::Rect(x, y + 3, kSwatch, kSwatch), bgr(colours[k]), cv::FILLED);
+    cv::putText(image, legend_text(objects[k]), cv::Point(x + kSwatch + 6, y + 14),
+                cv::FONT_HERSHEY_SIMPLEX, kLegendFont, text_colour, 1, cv::LINE_AA);
+  }
+  return image;
+}
+
+// recognition_image_png's picture; the size of its scene part in scene_size.
+cv::Mat recognition_image(const Frame& frame, const std::vector<RecognizedObject>& objects,
+                          const Database& db, cv::Size& scene_size) {
+  const std::vector<Rgb> colours = recognition_colours(objects);
+  const std::vector<int> owner = point_owners(frame, objects);
+  // An object's point over the scene: the scene's colour and the object's, mixed.
+  const auto tint = [&](std::size_t i) {
+    const Rgb& c = frame.rgb[i];
+    if (owner[i] < 0) return cv::Vec3b(c[2] / 2, c[1] / 2, c[0] / 2);
+    const Rgb& o = colours[owner[i]];
+    return cv::Vec3b((2 * c[2] + 3 * o[2]) / 5, (2 * c[1] + 3 * o[1]) / 5,
+                     (2 * c[0] + 3 * o[0]) / 5);
+  };
+  // Where each object's id goes: the mean of its points' positions in the picture.
+  std::vector<Eigen::Vector2d> at(objects.size(), Eigen::Vector2d::Zero());
+  std::vector<double> seen(objects.size(), 0);
   cv::Mat image;
   Projection pr;
   if (frame.organized()) {
-    image.create(frame.height, frame.width, CV_8UC3);
-    for (int v = 0; v < frame.height; ++v)
-      for (int u = 0; u < frame.width; ++u) {
-        const Rgb& c = frame.rgb[static_cast<std::size_t>(v) * frame.width + u];
-        image.at<cv::Vec3b>(v, u) = cv::Vec3b(c[2] / 2, c[1] / 2, c[0] / 2);
+    const int w = frame.width, h = frame.height;
+    image.create(h, w, CV_8UC3);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * w + u;
+        image.at<cv::Vec3b>(v, u) = tint(i);
+        if (owner[i] >= 0) at[owner[i]] += Eigen::Vector2d(u, v), ++seen[owner[i]];
+      }
+    // Outlines in exactly the object's colour (the legend's swatch).
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * w + u;
+        const int k = owner[i];
+        if (k < 0) continue;
+        const bool edge = u == 0 || v == 0 || u + 1 == w || v + 1 == h || owner[i - 1] != k ||
+                          owner[i + 1] != k || owner[i - w] != k || owner[i + w] != k;
+        if (edge)
+          image.at<cv::Vec3b>(v, u) = cv::Vec3b(colours[k][2], colours[k][1], colours[k][0]);
       }
     pr = fit_projection(frame);
   } else {
@@ -318,40 +481,89 @@ std::string recognition_image_png(const Frame& frame, const std::vector<Recogniz
       pr.cy = 240 - pr.fy * (lo.y() + hi.y()) / 2;
       pr.ok = true;
     }
-    for (std::size_t i = 0; i < frame.size() && pr.ok; ++i) {
-      if (!frame.valid(i) || !pr.in_front(frame.xyz[i].cast<double>())) continue;
-      const Eigen::Vector2d q = pr(frame.xyz[i].cast<double>());
-      const Rgb& c = frame.rgb[i];
-      cv::circle(image, cv::Point(int(q.x()), int(q.y())), 1,
-                 cv::Scalar(c[2] / 2, c[1] / 2, c[0] / 2), cv::FILLED);
-    }
+    // The objects' points after the others, so that they are not hidden by them.
+    for (const bool held : {false, true})
+      for (std::size_t i = 0; i < frame.size() && pr.ok; ++i) {
+        if ((owner[i] >= 0) != held || !frame.valid(i) || !pr.in_front(frame.xyz[i].cast<double>()))
+          continue;
+        const Eigen::Vector2d q = pr(frame.xyz[i].cast<double>());
+        const cv::Vec3b c = tint(i);
+        cv::circle(image, cv::Point(int(q.x()), int(q.y())), 1, cv::Scalar(c[0], c[1], c[2]),
+                   cv::FILLED);
+        if (held) at[owner[i]] += q, ++seen[owner[i]];
+      }
   }
-  const auto objects_in_db = db.objects();
-  for (const RecognizedObject& o : objects) {
-    const Recognition& r = o.recognition;
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const Recognition& r = objects[k].recognition;
     if (!pr.ok || r.best.view < 0 || r.name == "unknown") continue;
-    const auto index =
-        std::find(objects_in_db.begin(), objects_in_db.end(), r.name) - objects_in_db.begin();
-    const cv::Vec3b c = label_colour(static_cast<std::uint32_t>(index + 1));
-    const Cloud& view = db.views[r.best.view].cloud;
-    for (const auto& p : view.points) {
+    // The aligned model view: where the model says the object is.
+    for (const auto& p : db.views[r.best.view].cloud.points) {
       const Eigen::Vector3d q3 =
           r.best.pose.topLeftCorner<3, 3>() * p + r.best.pose.topRightCorner<3, 1>();
       if (!pr.in_front(q3)) continue;
       const Eigen::Vector2d q = pr(q3);
       cv::circle(image, cv::Point(int(std::lround(q.x())), int(std::lround(q.y()))), 1,
-                 cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
-    }
-    if (pr.in_front(o.centroid)) {
-      const Eigen::Vector2d q = pr(o.centroid);
-      char text[160];
-      std::snprintf(text, sizeof text, "%s %.2f", r.name.c_str(), r.best.score);
-      const cv::Point at(int(q.x()) - 30, int(q.y()));
-      cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 3);
-      cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 1);
+                 bgr(colours[k]), cv::FILLED);
     }
   }
-  return detail::encode_png(image);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    // A cloud given with --object has no frame points: its centroid, projected.
+    if (seen[k] == 0 && pr.ok && pr.in_front(objects[k].centroid))
+      at[k] = pr(objects[k].centroid), seen[k] = 1;
+    if (seen[k] == 0) continue;
+    const Eigen::Vector2d q = at[k] / seen[k];
+    draw_id_tag(image, objects[k].id, colours[k],
+                cv::Point(int(std::lround(q.x())), int(std::lround(q.y()))));
+  }
+  scene_size = image.size();
+  return with_legend(image, objects, colours);
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> recognition_labels(const Frame& frame,
+                                              const std::vector<RecognizedObject>& objects) {
+  const std::vector<int> owner = point_owners(frame, objects);
+  std::vector<std::uint32_t> labels(frame.size(), 0);
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    if (owner[i] >= 0) labels[i] = static_cast<std::uint32_t>(objects[owner[i]].id);
+  return labels;
+}
+
+std::string recognition_image_png(const Frame& frame, const std::vector<RecognizedObject>& objects,
+                                  const Database& db) {
+  cv::Size scene;
+  return detail::encode_png(recognition_image(frame, objects, db, scene));
+}
+
+nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
+                                 const std::vector<RecognizedObject>& objects, const Database& db,
+                                 nlohmann::json report, bool scene) {
+  // The report names the files beside it by their file names: it stays right when the folder
+  // is moved.
+  const std::string stem = std::filesystem::path(prefix).filename().string();
+  std::vector<std::pair<std::string, std::string>> files;
+  if (scene) {
+    files.emplace_back(prefix + ".pcd",
+                       pcd_bytes(frame, {{"object", recognition_labels(frame, objects)}}));
+    report["labels"] = {{"file", stem + ".pcd"},
+                        {"field", "object"},
+                        {"none", 0},
+                        {"meaning",
+                         "per point of the input frame, the id (candidates[].id) of the "
+                         "recognised object that holds it; 0 = no object"}};
+  }
+  cv::Size scene_size;
+  const cv::Mat picture = recognition_image(frame, objects, db, scene_size);
+  report["picture"] = {{"file", stem + ".png"},
+                       {"width", picture.cols},
+                       {"height", picture.rows},
+                       {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
+                       {"legend", "right of the scene: per candidate its colour, id, name, score"}};
+  files.emplace_back(prefix + ".png", detail::encode_png(picture));
+  files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  write_files_atomic(files);
+  return report;
 }
 
 std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,

@@ -303,9 +303,17 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
   EXPECT_EQ(report["proxseg"]["version"], PROXSEG_VERSION);
   EXPECT_TRUE(report["parameters"].contains("recognition"));
   EXPECT_TRUE(report["parameters"].contains("segmentation"));
+  // The picture: the scene and a legend to its right; the objects' ids in PREFIX.pcd
+  // (tests/test_recognize_outputs.cpp checks them against ground truth).
   const cv::Mat png = cv::imread(o.string() + ".png");
-  EXPECT_EQ(png.cols, 640);
+  EXPECT_EQ(report["picture"]["scene"]["width"], 640);
+  EXPECT_EQ(png.cols, report["picture"]["width"].get<int>());
+  EXPECT_GT(png.cols, 640);
   EXPECT_EQ(png.rows, 480);
+  const proxseg::Frame labelled = proxseg::read_pcd(o.string() + ".pcd", "object");
+  EXPECT_EQ(labelled.width, 640);
+  EXPECT_EQ(labelled.label.size(), labelled.size());
+  EXPECT_EQ(report["labels"]["field"], "object");
 
   // One segmented cloud.
   r = run("recognize --object " + kData + "/pcl/milk.pcd --db " + db.string());

@@ -92,20 +92,27 @@ TEST(Database, ViewsRoundTripThroughTheCache) {
   }
   EXPECT_LT((after.features - before.features).cwiseAbs().maxCoeff(), 1e-4);
   EXPECT_EQ(after.viewpoint, before.viewpoint);
-  EXPECT_EQ(after.colours, before.colours);
-  ASSERT_EQ(after.colours.size(), after.size());
-  EXPECT_EQ(after.signature.colour, before.signature.colour);
-  // A view from an XYZ-only cloud has no colour once loaded (not the grey its PCD stores).
+  // milk.pcd is painted (0, 0, 255) throughout: a placeholder, not a colour.
+  EXPECT_TRUE(after.colours.empty());
+  // A rendered view keeps its colours; a view from an XYZ-only cloud has none once loaded (not
+  // the grey its PCD stores).
+  ViewSphereParams vp;
+  vp.views = 2;
+  const auto duck =
+      render_views(read_mesh(kData + "/lmo/models/obj_000009.ply", 0.001), vp).front();
+  const Cloud duck_before = add_view(db, "duck", duck.points, duck.eye, "duck").cloud;
   Frame xyz_only;
-  xyz_only.xyz = milk.xyz;
-  xyz_only.width = milk.width;
-  xyz_only.height = milk.height;
-  add_view(db, "milk shape", xyz_only, Eigen::Vector3d::Zero(), "milk.pcd without colour");
+  xyz_only.xyz = duck.points.xyz;
+  xyz_only.width = duck.points.width;
+  xyz_only.height = duck.points.height;
+  add_view(db, "duck shape", xyz_only, duck.eye, "duck without colour");
   const Database again = load_database(dir);
-  ASSERT_EQ(again.views.size(), 2u);
-  EXPECT_EQ(again.views[0].cloud.colours.size(), again.views[0].cloud.size());
-  EXPECT_TRUE(again.views[1].cloud.colours.empty());
-  EXPECT_EQ(again.views[1].cloud.signature.colour.size(), 0);
+  ASSERT_EQ(again.views.size(), 3u);
+  ASSERT_EQ(again.views[1].cloud.colours.size(), again.views[1].cloud.size());
+  EXPECT_EQ(again.views[1].cloud.colours, duck_before.colours);
+  EXPECT_EQ(again.views[1].cloud.signature.colour, duck_before.signature.colour);
+  EXPECT_TRUE(again.views[2].cloud.colours.empty());
+  EXPECT_EQ(again.views[2].cloud.signature.colour.size(), 0);
 }
 
 TEST(Database, BrokenDatabasesAreClearErrors) {

@@ -360,18 +360,20 @@ TEST(Robustness, SegmentIsByteIdenticalAtOneAndTwoThreadsAndAcrossRuns) {
 
 TEST(Robustness, RecognizeIsByteIdenticalAtOneAndTwoThreadsAndAcrossRuns) {
   const fs::path db = milk_database("db-det");
-  std::vector<std::pair<std::string, std::string>> outputs;
+  std::vector<std::array<std::string, 3>> outputs;
   for (const char* threads : {"1", "2", "1", "2"}) {
+    // One folder per run, the same file names: the report names its PCD and picture.
     const fs::path o =
-        kTmp / (std::string("rec-") + threads + "-" + std::to_string(outputs.size()));
+        kTmp / (std::string("rec-") + threads + "-" + std::to_string(outputs.size())) / "scene";
     const CliRun r = run("recognize " + kData + "/pcl/milk_cartoon_all_small_clorox.pcd --db " +
                          db.string() + " --threads " + threads + " -o " + o.string());
     ASSERT_EQ(r.code, 0) << r.err;
-    outputs.emplace_back(slurp(o.string() + ".png"),
-                         without_times(nlohmann::json::parse(slurp(o.string() + ".json"))).dump());
+    outputs.push_back({slurp(o.string() + ".pcd"), slurp(o.string() + ".png"),
+                       without_times(nlohmann::json::parse(slurp(o.string() + ".json"))).dump()});
   }
   for (std::size_t i = 1; i < outputs.size(); ++i) {
-    EXPECT_TRUE(outputs[i].first == outputs[0].first) << "picture differs, run " << i;
-    EXPECT_EQ(outputs[i].second, outputs[0].second) << "report differs, run " << i;
+    EXPECT_TRUE(outputs[i][0] == outputs[0][0]) << "object ids differ, run " << i;
+    EXPECT_TRUE(outputs[i][1] == outputs[0][1]) << "picture differs, run " << i;
+    EXPECT_EQ(outputs[i][2], outputs[0][2]) << "report differs, run " << i;
   }
 }

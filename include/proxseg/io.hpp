@@ -4,6 +4,7 @@
 #include <proxseg/render.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace proxseg {
@@ -45,11 +46,17 @@ struct PointField {
   std::string name;
   std::vector<std::uint32_t> values;  // one per point
 };
-// Writes a binary PCD (organized if the frame is) with fields x y z rgb and the extra fields.
-// Atomic: the file appears whole or not at all.
+// A binary PCD (organized if the frame is) with fields x y z rgb and the extra fields, in memory.
+std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields);
+// Writes pcd_bytes to path. Atomic: the file appears whole or not at all.
 void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields);
 
 // Writes bytes to path through a temporary file in the same directory and a rename.
 void write_file_atomic(const std::string& path, const std::string& bytes);
+// Writes a set of files (path, bytes) that belong together: every one to its temporary file
+// first, then all renamed into place. A failure (InputError naming the file) removes the
+// temporary files and whatever new file was already in place, so the set is never left half new;
+// files of an earlier run that were not yet replaced stay as they were.
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace proxseg

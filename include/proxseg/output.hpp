@@ -1,4 +1,5 @@
-// Segmentation outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written atomically).
+// Segmentation and recognition outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written
+// atomically).
 #pragma once
 #include <proxseg/pipeline.hpp>
 #include <proxseg/recognition.hpp>
@@ -38,15 +39,37 @@ struct RecognizedObject {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   std::vector<std::uint32_t> instances;  // the selection's candidates it holds points of
   std::string origin = "candidate";      // candidate, split or merged (recognize_scene)
+  std::vector<int> frame_points;         // scene: the frame points it holds (SceneObject::points)
   Recognition recognition;
 };
 // One candidate's entry of PREFIX.json: name, fitness, coverage, score, pose (4x4 rows,
 // candidate frame <- model frame), the view, the runner-up and times.
 nlohmann::json recognition_json(const RecognizedObject& object, const Database& db);
-// The scene with every recognised object's aligned model view drawn over it in its own colour
-// and labelled with its name and score (organized input: over the colour image, projected with a
-// pinhole fitted to the cloud; unorganized input: the points seen from the sensor). PNG bytes.
+// PREFIX.json's "candidates": recognition_json of each object and its "colour" [r, g, b] in
+// PREFIX.png, so that a program can match the report to the picture too.
+nlohmann::json recognition_candidates_json(const std::vector<RecognizedObject>& objects,
+                                           const Database& db);
+// The colour of each object in PREFIX.png, in order. Named objects take a fixed palette of 30
+// colours (10 hues x bright, dark and pale; neighbouring ids far apart in hue), unknown ones grey
+// shades (32), each in id order; past that the colours repeat (the ids drawn on the objects still
+// tell them apart). Depends only on the objects' order and names: the same scene, the same colours.
+std::vector<Rgb> recognition_colours(const std::vector<RecognizedObject>& objects);
+// PREFIX.pcd's field `object`: per frame point the id of the object that holds it, 0 for none.
+// std::invalid_argument if a point index is outside the frame or two objects hold one point.
+std::vector<std::uint32_t> recognition_labels(const Frame& frame,
+                                              const std::vector<RecognizedObject>& objects);
+// The scene with every object in its colour (its frame points tinted and outlined, a named
+// object's aligned model view drawn over it) and its id at its centroid (organized input: over
+// the colour image, frame size; unorganized input: the points seen from the sensor, 640x480),
+// beside a legend on the right: per object its colour swatch, id, name and best score, in
+// report order (more columns when they do not fit the height). PNG bytes.
 std::string recognition_image_png(const Frame& frame, const std::vector<RecognizedObject>& objects,
                                   const Database& db);
+// Writes PREFIX.json (the report with "picture", and for a scene "labels", added), PREFIX.png and
+// for a scene PREFIX.pcd (the frame with field `object` = recognition_labels). All three are made
+// in memory and written with write_files_atomic: all or none. Returns the report written.
+nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
+                                 const std::vector<RecognizedObject>& objects, const Database& db,
+                                 nlohmann::json report, bool scene);
 
 }  // namespace proxseg
