@@ -10,13 +10,16 @@
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
 #                   Open3D and PCL peers
+#   make bench-scenes  only the scene benchmark: segmentation + recognition end to end on
+#                   generated tabletops with known, look-alike and unknown objects (dev and
+#                   report splits), proxseg vs PCL Euclidean clusters + Open3D
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem bench-scenes format clean
 
 all: build
 
@@ -63,7 +66,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec bench-mem
+bench: bench-seg bench-rec bench-mem bench-scenes
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
@@ -99,6 +102,15 @@ bench-rec: deps-bench configure
 	} > $(REC_OUT)/section.md
 	@bash scripts/update-results.sh docs/results.md recognition $(REC_OUT)/section.md
 	@echo "docs/results.md (recognition) regenerated; tables, CSV and plots in $(REC_OUT)/"
+
+# Scene recognition end to end (scene_eval.hpp): 20 development + 20 report scenes through
+# proxseg and the PCL + Open3D peer.
+SCENES_OUT = $(BUILD)/bench-out/scenes
+bench-scenes: deps-bench configure
+	@cmake --build $(BUILD) -j $(JOBS) --target scene_bench
+	@$(BUILD)/bench/scene_bench --models $(DATA)/lmo/models -o $(SCENES_OUT)
+	@bash scripts/update-results.sh docs/results.md scenes $(SCENES_OUT)/scenes.md
+	@echo "docs/results.md (scenes) regenerated; per-prediction and per-object CSV in $(SCENES_OUT)/"
 
 format:
 	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp

@@ -187,8 +187,10 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame, const RegionGr
   return labels;
 }
 
-std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& p) {
+std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& p,
+                                     bool* plane_found) {
   quiet();
+  if (plane_found) *plane_found = false;
   std::vector<std::uint32_t> labels(frame.size(), 0);
   const std::vector<std::size_t> idx = valid_indices(frame);
   if (idx.empty()) return labels;
@@ -220,6 +222,7 @@ std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& 
     sac.segment(*plane, *coefficients);
   }
   const bool has_plane = !plane->indices.empty();
+  if (plane_found) *plane_found = has_plane;
   for (const auto k : plane->indices) down_label[static_cast<std::size_t>(k)] = 1;
 
   // Euclidean clusters of the rest.

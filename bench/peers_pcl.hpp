@@ -67,6 +67,8 @@ struct EuclideanParams {
   int min_cluster_size = 100;       // downsampled points
   int max_cluster_size = 25000;     // downsampled points
 };
-std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& params = {});
+// plane_found (optional) tells which of the two numberings the labels use.
+std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& params = {},
+                                     bool* plane_found = nullptr);
 
 }  // namespace proxseg::peers

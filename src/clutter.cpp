@@ -50,8 +50,9 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kBoxCell = 0.004;   // object tessellation, metres (textures are per vertex)
-constexpr double kTableCell = 0.05;  // table tessellation (textured per pixel)
+constexpr double kBoxCell = 0.004;         // object tessellation, metres (textures are per vertex)
+constexpr double kTableCell = 0.05;        // table tessellation (textured per pixel)
+constexpr int kMaxCatalogueInstances = 2;  // of one catalogue entry per scene
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Poly = std::vector<Vec2>;  // convex, counter-clockwise
@@ -558,6 +559,7 @@ struct Proto {
   Vec3 size = Vec3::Zero();
   Mesh mesh;           // object frame, unshaded colours
   bool convex = true;  // box or cylinder: normals face away from the centre
+  int catalogue = -1;  // ClutterParams::catalogue entry, -1 = drawn at random
 };
 
 Proto box_proto(Rng& r, const Vec3& size, const std::string& name) {
@@ -600,6 +602,25 @@ Proto mesh_proto(Rng& r, const std::string& path, double jitter, double recolour
     p.texture = "scan, tinted";
     for (auto& c : p.mesh.colours) c = to_rgb(Col(c[0], c[1], c[2]).cwiseProduct(gain));
   }
+  return p;
+}
+
+// A catalogue entry exactly as given: no scale jitter, no recolouring.
+Proto catalogue_proto(const std::vector<CatalogueObject>& catalogue, int index) {
+  const CatalogueObject& e = catalogue[static_cast<std::size_t>(index)];
+  Proto p;
+  p.kind = e.kind;
+  p.name = e.name;
+  p.texture = "catalogue";
+  p.convex = e.convex;
+  p.catalogue = index;
+  p.mesh = e.mesh;
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const auto& v : p.mesh.vertices) {
+    lo = lo.cwiseMin(v.cast<double>());
+    hi = hi.cwiseMax(v.cast<double>());
+  }
+  p.size = hi - lo;
   return p;
 }
 
@@ -728,6 +749,12 @@ void check_params(const ClutterParams& p) {
     bad("noise must be >= 0");
   if (p.min_visible_points < 0 || p.max_layouts < 1)
     bad("min_visible_points >= 0, max_layouts >= 1");
+  if (!(p.catalogue_share >= 0 && p.catalogue_share <= 1))
+    bad("probabilities and shares must be in [0, 1]");
+  for (const CatalogueObject& e : p.catalogue)
+    if (e.name.empty() || e.mesh.vertices.empty() || e.mesh.triangles.empty() ||
+        e.mesh.colours.size() != e.mesh.vertices.size())
+      bad("catalogue entry '" + e.name + "' needs a name and a mesh with one colour per vertex");
 }
 
 // One layout draw (sub-stream `draw` of the seed). Returns false if the objects could not all be
@@ -735,7 +762,11 @@ void check_params(const ClutterParams& p) {
 class Layout {
  public:
   Layout(const ClutterParams& P, const std::vector<std::string>& models, int n, int draw)
-      : P_(P), models_(models), n_(n), r_(stream(P.seed, 1 + static_cast<std::uint64_t>(draw))) {
+      : P_(P),
+        models_(models),
+        n_(n),
+        r_(stream(P.seed, 1 + static_cast<std::uint64_t>(draw))),
+        catalogue_count_(P.catalogue.size(), 0) {
     unused_models_.resize(models.size());
     for (std::size_t i = 0; i < models.size(); ++i) unused_models_[i] = static_cast<int>(i);
   }
@@ -750,6 +781,7 @@ class Layout {
   int n_;
   Rng r_;
   std::vector<int> unused_models_;
+  std::vector<int> catalogue_count_;  // instances of each catalogue entry drawn so far
   std::vector<Proto> protos_;
   std::vector<Placed> placed_;
   double table_hx_ = 0, table_hy_ = 0;
@@ -766,6 +798,20 @@ class Layout {
 
   // Any object for the table: mesh, box or cylinder, with its pose (standing or lying).
   std::pair<int, ClutterPose> generic(bool allow_mesh = true) {
+    // A catalogue entry. Without a catalogue nothing is drawn here, so that the draws below, and
+    // so every scene of the generator without one, stay as they were.
+    if (!P_.catalogue.empty() && P_.catalogue_share > 0 && r_.p(P_.catalogue_share)) {
+      std::vector<int> open;  // entries with fewer than 2 instances
+      for (std::size_t k = 0; k < catalogue_count_.size(); ++k)
+        if (catalogue_count_[k] < kMaxCatalogueInstances) open.push_back(static_cast<int>(k));
+      if (!open.empty()) {
+        const int k = open[static_cast<std::size_t>(r_.i(0, static_cast<int>(open.size()) - 1))];
+        ++catalogue_count_[static_cast<std::size_t>(k)];
+        const bool lying = P_.catalogue[static_cast<std::size_t>(k)].lies || r_.p(P_.p_lying);
+        return {add_proto(catalogue_proto(P_.catalogue, k)),
+                lying ? ClutterPose::lying : ClutterPose::standing};
+      }
+    }
     const double u = r_.u();
     const double mesh_share = (allow_mesh && !unused_models_.empty()) ? P_.mesh_share : 0;
     const bool lying = r_.p(P_.p_lying);
@@ -818,7 +864,9 @@ class Layout {
   }
 
   Eigen::Matrix3d tilt_for(const Proto& p, ClutterPose pose) {
-    if (pose != ClutterPose::lying || p.kind == ClutterKind::box)
+    // Random boxes are drawn with their lying extents already; a catalogue box is turned down
+    // like a mesh (its longer horizontal axis: onto its largest face when z is its longest).
+    if (pose != ClutterPose::lying || (p.kind == ClutterKind::box && p.catalogue < 0))
       return Eigen::Matrix3d::Identity();
     if (p.kind == ClutterKind::cylinder)
       return Eigen::AngleAxisd(kPi / 2, Vec3::UnitX()).toRotationMatrix();
@@ -847,8 +895,10 @@ class Layout {
     c.proto = proto;
     c.pose = pose;
     c.rest = make_rest(protos_[static_cast<std::size_t>(proto)], R0);
+    // Stacking puts objects on the top face of the box's own extents: only a box that is not
+    // turned (a lying catalogue box is) has it on top.
     c.can_support = protos_[static_cast<std::size_t>(proto)].kind == ClutterKind::box &&
-                    pose != ClutterPose::leaning;
+                    pose != ClutterPose::leaning && R0 == Eigen::Matrix3d::Identity();
     return c;
   }
 
@@ -1098,6 +1148,7 @@ bool Layout::run(ClutterScene& out) {
     o.label = label_of(static_cast<int>(i));
     o.kind = p.kind;
     o.name = p.name;
+    o.catalogue = p.catalogue;
     o.texture = p.texture;
     o.pose = c.pose;
     o.size = p.size;

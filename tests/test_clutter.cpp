@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <proxseg/clutter.hpp>
 #include <proxseg/io.hpp>
+#include <proxseg/scene_eval.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -263,6 +265,79 @@ TEST(Clutter, WithoutModelsOnlyBoxesAndCylinders) {
       EXPECT_GE(o.visible_points, 400u);
     }
   }
+}
+
+// The scene set's catalogue (scene_eval.hpp): the scene is a pure function of its params, its
+// catalogue objects carry their entry (index, name, kind; markers lying, at most 2 of each), and
+// world_from_object puts the entry's mesh exactly where the object's points are.
+TEST(Clutter, CatalogueObjectsAreTheEntriesInPlace) {
+  const SceneCatalogue cat = scene_catalogue(kModels);
+  int catalogue_objects = 0, random_objects = 0;
+  for (std::uint32_t seed : {3u, 8u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    ClutterParams p = scene_set_params(seed, cat);
+    // Exact depths: what is left of the distances below is the mesh's tessellation.
+    p.depth_noise = 0;
+    p.disparity_step = 0;
+    const ClutterScene a = clutter_layout_scene(p), b = clutter_layout_scene(p);
+    EXPECT_TRUE(same_frame(a.frame, b.frame));
+    ASSERT_EQ(a.objects.size(), b.objects.size());
+    EXPECT_GE(a.objects.size(), 8u);
+    EXPECT_LE(a.objects.size(), 14u);
+    std::map<int, int> instances;
+    const Eigen::Isometry3d world_from_camera = a.render.camera_from_world.inverse();
+    for (std::size_t i = 0; i < a.objects.size(); ++i) {
+      const ClutterObject& o = a.objects[i];
+      EXPECT_EQ(o.catalogue, b.objects[i].catalogue);
+      if (o.catalogue < 0) {
+        ++random_objects;
+        EXPECT_NE(o.kind, ClutterKind::mesh) << "mesh_share 0: meshes come from the catalogue";
+        continue;
+      }
+      ++catalogue_objects;
+      ASSERT_LT(o.catalogue, static_cast<int>(cat.entries.size()));
+      const CatalogueObject& e = cat.entries[static_cast<std::size_t>(o.catalogue)];
+      ++instances[o.catalogue];
+      EXPECT_EQ(o.name, e.name);
+      EXPECT_EQ(o.kind, e.kind);
+      EXPECT_EQ(o.texture, "catalogue");
+      if (e.lies) {
+        EXPECT_EQ(o.pose, ClutterPose::lying) << e.name;
+      }
+      // Distance of (a sample of) the object's rendered points to the nearest vertex of the mesh
+      // put in place, and to the mesh put 2 cm further from the camera (which must be far worse:
+      // along the view, no surface slides into itself).
+      const Eigen::Vector3d away = (o.world_from_object.translation() - a.eye).normalized() * 0.02;
+      std::vector<Eigen::Vector3d> placed, shifted;
+      for (const auto& v : e.mesh.vertices) {
+        placed.push_back(o.world_from_object * v.cast<double>());
+        shifted.push_back(placed.back() + away);
+      }
+      std::vector<int> pts;
+      for (std::size_t k = 0; k < a.frame.size(); ++k)
+        if (a.frame.valid(k) && a.frame.label[k] == o.label) pts.push_back(static_cast<int>(k));
+      ASSERT_EQ(pts.size(), o.visible_points);
+      std::vector<double> d, d_off;
+      for (std::size_t s = 0; s < pts.size(); s += std::max<std::size_t>(1, pts.size() / 200)) {
+        const Eigen::Vector3d w = world_from_camera * a.frame.xyz[pts[s]].cast<double>();
+        double best = 1e300, best_off = 1e300;
+        for (std::size_t v = 0; v < placed.size(); ++v) {
+          best = std::min(best, (placed[v] - w).squaredNorm());
+          best_off = std::min(best_off, (shifted[v] - w).squaredNorm());
+        }
+        d.push_back(std::sqrt(best));
+        d_off.push_back(std::sqrt(best_off));
+      }
+      std::sort(d.begin(), d.end());
+      std::sort(d_off.begin(), d_off.end());
+      EXPECT_LT(d[d.size() / 2], 0.002) << e.name;
+      EXPECT_LT(d[d.size() * 95 / 100], 0.004) << e.name;
+      EXPECT_GT(d_off[d_off.size() / 2], 0.005) << e.name;
+    }
+    for (const auto& [entry, n] : instances) EXPECT_LE(n, 2) << cat.entries[entry].name;
+  }
+  EXPECT_GE(catalogue_objects, 8);
+  EXPECT_GE(random_objects, 1);
 }
 
 TEST(Clutter, BadModelsFolderOrParamsAreRejected) {

@@ -12,6 +12,26 @@
 
 namespace proxseg {
 
+enum class ClutterKind { mesh, box, cylinder };
+enum class ClutterPose { standing, lying, stacked, leaning };
+const char* to_string(ClutterKind k);
+const char* to_string(ClutterPose p);
+
+// A fixed object that scenes may draw (ClutterParams::catalogue): it appears exactly as given,
+// without scale jitter or recolouring, so that it looks like the model a recogniser was given,
+// up to the scene's lighting (shading is baked in as for every object).
+struct CatalogueObject {
+  std::string name;  // ClutterObject::name of its instances
+  ClutterKind kind = ClutterKind::mesh;
+  Mesh mesh;  // object frame, metres, unshaded colours; a box or cylinder centred on the origin
+  // Box or cylinder centred on the origin: shading turns normals away from the centre (meshes
+  // are shaded by their triangles' winding).
+  bool convex = false;
+  // Always placed lying (a marker); otherwise standing as modelled (z up) or, with p_lying,
+  // turned 90 degrees about its longer horizontal axis.
+  bool lies = false;
+};
+
 // Every knob of the generator. The defaults are the documented development set; a scene is a
 // pure function of the whole struct (same params -> bit-identical frame).
 struct ClutterParams {
@@ -30,6 +50,13 @@ struct ClutterParams {
   double box_share = 0.45;
   double mesh_scale_jitter = 0.1;  // meshes rescaled by a factor uniform in [1 - j, 1 + j]
   double mesh_recolour = 0.3;      // probability that a mesh's colours are tinted per channel
+  // Fixed objects (scene_eval.hpp's known and unknown objects): a free or touching object is
+  // drawn from the catalogue with probability catalogue_share, uniformly and with replacement,
+  // at most 2 instances of one entry per scene (when every entry has 2, the object is drawn as
+  // without a catalogue). An empty catalogue draws nothing: scenes are those of the generator
+  // without it, bit for bit.
+  std::vector<CatalogueObject> catalogue;
+  double catalogue_share = 0;
   // Box and cylinder extents, metres: every extent in [min_size, max_size] (cylinder
   // diameters 3-12 cm); the flat ones ("marker" 3-3.5 x 11-14 x 1.2-2 cm or a 2.2-3 cm thick
   // cylinder, "soap bar" 5-7 x 8-10 x 2-3 cm, leaning "board"s) may be thinner, down to
@@ -95,18 +122,16 @@ struct ClutterParams {
   int max_layouts = 64;
 };
 
-enum class ClutterKind { mesh, box, cylinder };
-enum class ClutterPose { standing, lying, stacked, leaning };
-const char* to_string(ClutterKind k);
-const char* to_string(ClutterPose p);
-
 // The layout decision for one object (all lengths in metres, world frame: table top z = 0).
 struct ClutterObject {
   std::uint32_t label = 0;  // 10 * (i + 1), i = 1..n
   ClutterKind kind = ClutterKind::box;
-  std::string
-      name;  // LINEMOD file stem (obj_000005), or box / cylinder / marker / soap bar / board
-  std::string texture;  // plain, stripes, checker, blotches, label, bands, scan (mesh colours)
+  // LINEMOD file stem (obj_000005), the catalogue entry's name, or box / cylinder / marker /
+  // soap bar / board.
+  std::string name;
+  int catalogue = -1;  // index into ClutterParams::catalogue, -1 = not from the catalogue
+  // plain, stripes, checker, blotches, label, bands, scan (mesh colours), catalogue
+  std::string texture;
   ClutterPose pose = ClutterPose::standing;
   Eigen::Vector3d size = Eigen::Vector3d::Zero();  // box extents; cylinder (2r, 2r, h); mesh bbox
   Eigen::Isometry3d world_from_object = Eigen::Isometry3d::Identity();

@@ -1,0 +1,632 @@
+// scene_bench (`make bench-scenes`): end-to-end scene recognition on generated cluttered
+// tabletops (include/proxseg/scene_eval.hpp). Each scene of the development and report splits
+// holds known objects (in the database), colour look-alikes of them, unknown catalogue objects
+// and the generator's random boxes and cylinders; proxseg (segment + recognize_scene) and the
+// peer pipeline (PCL plane + Euclidean clusters, Open3D RANSAC + ICP against every view, named
+// exactly as proxseg names) run on the same scenes and are scored the same way: detection,
+// precision / recall / F1 over the known objects, unknown objects named, pose (ADD-S), time,
+// and the ROC with negatives as the minimum score varies. Writes OUT/scenes.md, scenes.json,
+// predictions.csv and truths.csv. Exit codes: 0 ok, 1 bad input, 2 usage.
+// Usage: scene_bench [--models DIR] -o OUT [--dev-seeds LIST] [--report-seeds LIST]
+//                    [--scenes N [--first-seed S]] [--views N] [--threads T] [--config FILE]
+//                    [--peers all|none] [--json]
+#include <proxseg/io.hpp>
+#include <proxseg/memory.hpp>
+#include <proxseg/params.hpp>
+#include <proxseg/pipeline.hpp>
+#include <proxseg/recognition.hpp>
+#include <proxseg/scene_eval.hpp>
+#include <proxseg/version.hpp>
+
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "peers_pcl.hpp"
+#include "peers_rec.hpp"
+#include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
+
+namespace {
+
+using proxseg::InputError;
+using proxseg::Prediction;
+using proxseg::PredictionRow;
+using proxseg::SceneCounts;
+using proxseg::SceneCurvePoint;
+
+struct Options {
+  std::string models = "../shared/data/lmo/models", output, config, peers = "all";
+  std::string dev_seeds = "1-20", report_seeds = "101-120";
+  int scenes = 0;
+  std::uint32_t first_seed = 1;
+  int views = 8, threads = 0;
+  bool json = false;
+};
+
+// "1-20", "3,5,101-103": the seeds in the given order.
+std::vector<std::uint32_t> parse_seeds(const std::string& spec, const std::string& option) {
+  std::vector<std::uint32_t> seeds;
+  std::stringstream in(spec);
+  for (std::string item; std::getline(in, item, ',');) {
+    const auto dash = item.find('-');
+    try {
+      std::size_t used = 0;
+      const unsigned long a = std::stoul(item.substr(0, dash), &used);
+      if (used != item.substr(0, dash).size()) throw std::invalid_argument(item);
+      unsigned long b = a;
+      if (dash != std::string::npos) {
+        b = std::stoul(item.substr(dash + 1), &used);
+        if (used != item.size() - dash - 1) throw std::invalid_argument(item);
+      }
+      if (b < a || b - a > 100000 || b > 0xffffffffUL) throw std::invalid_argument(item);
+      for (unsigned long s = a; s <= b; ++s) seeds.push_back(static_cast<std::uint32_t>(s));
+    } catch (const std::exception&) {
+      throw CLI::ValidationError(option + ": expected seeds like 1-20 or 3,5,101-103, got '" +
+                                 spec + "'");
+    }
+  }
+  if (seeds.empty()) throw CLI::ValidationError(option + ": no seeds");
+  return seeds;
+}
+
+// "1-20" for a run of consecutive seeds, else the list.
+std::string seeds_text(const std::vector<std::uint32_t>& seeds) {
+  bool run = true;
+  for (std::size_t i = 1; i < seeds.size(); ++i) run = run && seeds[i] == seeds[i - 1] + 1;
+  if (run && seeds.size() > 1)
+    return std::to_string(seeds.front()) + "-" + std::to_string(seeds.back());
+  std::string s;
+  for (auto x : seeds) s += (s.empty() ? "" : ",") + std::to_string(x);
+  return s;
+}
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::string fmt(double v, int digits = 2) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+std::string pct(double rate) {
+  return fmt(100 * rate, 1);
+}
+
+std::string machine() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores";
+}
+
+std::string today() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+  return buf;
+}
+
+// The 1-minute load average: the times are wall times on a machine that may be shared.
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one;
+  return in >> one ? one : "unknown";
+}
+
+struct Split {
+  std::string name;
+  std::vector<std::uint32_t> seeds;
+};
+
+// A recogniser of whole scenes: frame -> predictions.
+struct Method {
+  std::string label;
+  std::function<std::vector<Prediction>(const proxseg::Frame&)> run;
+};
+
+// One truth object of one scene with what a method made of it (truths.csv, the failure table).
+struct TruthRow {
+  std::uint32_t scene = 0;
+  proxseg::TruthObject truth;
+  int prediction = -1;
+  double iou = 0;
+  std::string name;  // the matched prediction's, "" when unmatched
+  double score = 0;
+};
+
+// Everything one method gave on one split.
+struct Result {
+  SceneCounts counts;
+  std::vector<PredictionRow> rows;
+  std::vector<TruthRow> truths;
+  std::vector<int> points;  // per row: the prediction's size
+};
+
+std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labels,
+                                          std::uint32_t first) {
+  std::map<std::uint32_t, std::vector<int>> by_label;
+  for (std::size_t k = 0; k < labels.size(); ++k)
+    if (labels[k] >= first) by_label[labels[k]].push_back(static_cast<int>(k));
+  std::vector<std::vector<int>> out;
+  for (auto& [label, pts] : by_label) out.push_back(std::move(pts));
+  return out;
+}
+
+// The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
+// Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
+// (rec_bench's peer), the poses scored and the candidate named exactly as proxseg::recognize
+// does (same score, ties to the earlier view, same min_score). A cluster too small to describe
+// is not made, as recognize_scene() does with such candidates.
+std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
+                                   const proxseg::peers::Open3dPeer& open3d,
+                                   const proxseg::RecognitionParams& rp, int threads) {
+  bool plane = false;
+  const std::vector<std::uint32_t> labels = proxseg::peers::euclidean(frame, {}, &plane);
+  std::vector<Prediction> out;
+  for (std::vector<int>& points : segments_of(labels, plane ? 2 : 1)) {
+    std::vector<Eigen::Vector3d> xyz;
+    xyz.reserve(points.size());
+    for (int k : points) xyz.push_back(frame.xyz[k].cast<double>());
+    proxseg::Cloud c;
+    try {
+      c = proxseg::describe_candidate(xyz, db);
+    } catch (const InputError&) {
+      continue;
+    }
+    const std::vector<proxseg::peers::PeerAlignment> aligned =
+        open3d.align(c, static_cast<int>(rp.seed));
+    const int n = static_cast<int>(aligned.size());
+    std::vector<double> score(n, 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int v = 0; v < n; ++v)
+      if (aligned[v].found)  // no hypothesis, no pose to score: 0
+        score[v] = proxseg::score_of(
+            proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration), rp.score);
+    Prediction p;
+    p.points = std::move(points);
+    int best = -1;
+    for (int v = 0; v < n; ++v)
+      if (aligned[v].found && (best < 0 || score[v] > score[best])) best = v;
+    if (best >= 0) {
+      p.best = db.views[best].object;
+      p.score = score[best];
+      p.pose = aligned[best].pose;
+      for (int v = 0; v < n; ++v)
+        if (aligned[v].found && db.views[v].object != p.best)
+          p.runner_up = std::max(p.runner_up, score[v]);
+    }
+    p.name = best >= 0 && p.score >= rp.min_score ? p.best : "unknown";
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+nlohmann::json counts_json(const SceneCounts& c) {
+  return {{"scenes", c.scenes},
+          {"truths", c.truths},
+          {"known", c.known},
+          {"unknown", c.unknown},
+          {"predictions", c.predictions},
+          {"detected", c.detected},
+          {"tp", c.tp},
+          {"fn", c.fn},
+          {"fp", c.fp},
+          {"unknown_named", c.unknown_named},
+          {"pose_ok", c.pose_ok},
+          {"detection", c.detection()},
+          {"precision", c.precision()},
+          {"recall", c.recall()},
+          {"f1", c.f1()},
+          {"unknown_named_share", c.unknown_named_share()},
+          {"pose_rate", c.pose_rate()},
+          {"seconds_per_scene", c.seconds_per_scene()}};
+}
+
+nlohmann::json point_json(const SceneCurvePoint& p) {
+  return {{"min_score", p.min_score},
+          {"tp", p.tp},
+          {"fp", p.fp},
+          {"unknown_named", p.unknown_named},
+          {"tpr", p.tpr},
+          {"unknown_named_share", p.unknown_named_share},
+          {"precision", p.precision},
+          {"f1", p.f1}};
+}
+
+std::string csv_name(const std::string& s) {
+  return s.empty() ? "-" : s;
+}
+
+// The most frequent entries of a tally, "a -> b (n)", most frequent first (ties by name).
+std::string top(const std::map<std::string, int>& tally, std::size_t n) {
+  std::vector<std::pair<std::string, int>> v(tally.begin(), tally.end());
+  std::stable_sort(v.begin(), v.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string s;
+  for (std::size_t i = 0; i < v.size() && i < n; ++i)
+    s += (s.empty() ? "" : ", ") + v[i].first + " (" + std::to_string(v[i].second) + ")";
+  return s.empty() ? "-" : s;
+}
+
+int run(const Options& o) {
+  namespace fs = std::filesystem;
+  if (o.peers != "all" && o.peers != "none")
+    throw CLI::ValidationError("--peers: expected all or none, got '" + o.peers + "'");
+  std::vector<Split> splits;
+  if (o.scenes > 0) {
+    splits.push_back({"scenes", proxseg::seed_range(o.first_seed, o.scenes)});
+  } else {
+    splits.push_back({"dev", parse_seeds(o.dev_seeds, "--dev-seeds")});
+    splits.push_back({"report", parse_seeds(o.report_seeds, "--report-seeds")});
+  }
+  proxseg::SegmentParams sp;
+  proxseg::RecognitionParams rp;
+  if (!o.config.empty()) std::tie(sp, rp) = proxseg::read_recognize_params(o.config, sp, rp);
+  sp.threads = rp.threads = o.threads;
+  proxseg::validate(sp);
+  proxseg::validate(rp);
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  const int team = o.threads > 0 ? o.threads : omp_get_max_threads();
+
+  const fs::path out(o.output);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec || !fs::is_directory(out))
+    throw InputError(o.output + ": cannot create the output folder (" + ec.message() + ")");
+
+  auto t0 = Clock::now();
+  const proxseg::SceneCatalogue catalogue = proxseg::scene_catalogue(o.models);
+  const proxseg::DescriptorParams descriptor;
+  const proxseg::Database db = proxseg::scene_database(catalogue, o.views, descriptor);
+  std::cerr << "scene_bench: database of " << db.views.size() << " views (" << db.objects().size()
+            << " known objects x " << o.views << ") in " << fmt(seconds_since(t0), 1) << " s\n";
+  const proxseg::SceneSetParams set;
+
+  std::vector<Method> methods;
+  methods.push_back({"proxseg", [&](const proxseg::Frame& f) {
+                       const proxseg::SegmentResult s = proxseg::segment(f, sp);
+                       return proxseg::predictions_of(
+                           proxseg::recognize_scene(f, s.selection, db, rp));
+                     }});
+  proxseg::peers::Open3dParams o3d;
+  o3d.ransac_iterations = 100000;  // as rec_bench: its 4M default costs 2.5x, no gain
+  std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
+  const std::string peer_label = "PCL Euclidean + Open3D RANSAC 100k + ICP";
+  if (o.peers == "all") {
+    open3d = std::make_unique<proxseg::peers::Open3dPeer>(db, o3d, o.threads);
+    methods.push_back({peer_label, [&](const proxseg::Frame& f) {
+                         return peer_scene(f, db, *open3d, rp, team);
+                       }});
+  }
+
+  const std::string load_before = load_average();
+  // The runs: every scene is generated once and given to every method.
+  std::vector<std::vector<Result>> results(splits.size(), std::vector<Result>(methods.size()));
+  std::size_t steps = 0;
+  for (const Split& s : splits) steps += s.seeds.size() * methods.size();
+  cli::Progress progress(steps);
+  for (std::size_t si = 0; si < splits.size(); ++si)
+    for (std::uint32_t seed : splits[si].seeds) {
+      const proxseg::ClutterScene scene =
+          proxseg::clutter_layout_scene(proxseg::scene_set_params(seed, catalogue, set));
+      const std::vector<proxseg::TruthObject> truth = proxseg::scene_truth(scene, catalogue);
+      for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+        const auto start = Clock::now();
+        const std::vector<Prediction> predictions = methods[mi].run(scene.frame);
+        const double sec = seconds_since(start);
+        proxseg::SceneEvaluation e = proxseg::evaluate_scene(seed, truth, predictions, catalogue);
+        e.counts.seconds = sec;
+        Result& r = results[si][mi];
+        r.counts += e.counts;
+        for (std::size_t j = 0; j < e.rows.size(); ++j) {
+          r.rows.push_back(e.rows[j]);
+          r.points.push_back(static_cast<int>(predictions[j].points.size()));
+        }
+        for (std::size_t i = 0; i < truth.size(); ++i) {
+          TruthRow t;
+          t.scene = seed;
+          t.truth = truth[i];
+          t.prediction = e.match[i];
+          if (t.prediction >= 0) {
+            t.iou = e.rows[t.prediction].iou;
+            t.name = predictions[t.prediction].name;
+            t.score = predictions[t.prediction].score;
+          }
+          r.truths.push_back(std::move(t));
+        }
+        progress.step(splits[si].name + " seed " + std::to_string(seed) + ", " + methods[mi].label +
+                      ": " + std::to_string(e.counts.tp) + "/" + std::to_string(e.counts.known) +
+                      " known named right, " + std::to_string(e.counts.fp) + " FP, " + fmt(sec, 1) +
+                      " s");
+      }
+    }
+
+  // The report.
+  const std::vector<double> thresholds = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8};
+  nlohmann::json summary;
+  summary["proxseg"] = {{"version", proxseg::version()}, {"commit", proxseg::git_commit()}};
+  nlohmann::json cat = nlohmann::json::array();
+  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+    cat.push_back({{"name", catalogue.entries[i].name},
+                   {"kind", proxseg::to_string(catalogue.entries[i].kind)},
+                   {"known", catalogue.known[i] != 0},
+                   {"diameter", catalogue.diameters[i]}});
+  summary["load_average"] = {{"before", load_before}, {"after", load_average()}};
+  summary["parameters"] = {{"models", o.models},
+                           {"catalogue", cat},
+                           {"views_per_object", o.views},
+                           {"database_views", db.views.size()},
+                           {"min_objects", set.min_objects},
+                           {"max_objects", set.max_objects},
+                           {"catalogue_share", set.catalogue_share},
+                           {"mesh_share", set.mesh_share},
+                           {"segmentation", proxseg::to_json(sp)},
+                           {"recognition", proxseg::to_json(rp)},
+                           {"peer", o.peers == "all" ? peer_label : ""},
+                           {"open3d_ransac_iterations", o3d.ransac_iterations},
+                           {"threads", team}};
+  summary["splits"] = nlohmann::json::array();
+
+  std::ostringstream md, csv, truth_csv;
+  const std::string commit = proxseg::bench::git_commit();
+  std::size_t objects_known = 0;
+  for (char k : catalogue.known) objects_known += k != 0;
+  md << "## Scene recognition: segmentation + recognition on generated cluttered tabletops\n\n"
+     << "Generated by `make bench-scenes` (bench/scene_bench.cpp) at commit " << commit << " on "
+     << machine() << ", " << today() << ", " << team << " threads (load average " << load_before
+     << " before the runs, " << load_average()
+     << " after: the times are wall times). Scenes: the clutter generator "
+     << "(docs/clutter.md) with " << set.min_objects << "-" << set.max_objects
+     << " objects; a free or touching object is drawn with probability "
+     << fmt(set.catalogue_share, 2) << " from a catalogue of " << catalogue.entries.size()
+     << " fixed objects (scene_catalogue(), include/proxseg/scene_eval.hpp), at most 2 of each "
+        "per scene: "
+     << objects_known << " known (in the database: ";
+  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+    if (catalogue.known[i]) md << (i ? ", " : "") << catalogue.entries[i].name;
+  md << ") and " << catalogue.entries.size() - objects_known << " unknown (";
+  std::string unknown_names;
+  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+    if (!catalogue.known[i])
+      unknown_names += (unknown_names.empty() ? "" : ", ") + catalogue.entries[i].name;
+  md << unknown_names
+     << "); the others are the generator's random boxes and cylinders (unknown too). "
+     << "duck-blue and ape-green are the duck and ape meshes in another hue, the markers one "
+        "cylinder in two colours, the boxes near in shape and different in colour. Database: "
+     << o.views << " noiseless render_views() per known object (" << db.views.size()
+     << " views). proxseg: segment() with "
+     << (o.config.empty() ? "default parameters" : "the config's parameters")
+     << " + recognize_scene() (min score " << fmt(rp.min_score, 2) << ", split and merge on). "
+     << "Peer: PCL plane + Euclidean clusters (seg_bench's \"PCL plane + Euclidean\") as "
+        "candidates, each described like proxseg's and aligned to every view by Open3D RANSAC "
+        "100k + ICP (rec_bench's peer); its poses are scored and the candidate named exactly as "
+        "proxseg names (same score, same min score).\n\n"
+     << "Measures (docs/metrics.md, \"Scenes\"): truth objects and predictions are matched by "
+        "the assignment of largest total point IoU among pairs with IoU >= 0.5; detection = "
+        "matched truths / truths. TP: a known truth whose match carries its name; FN: the other "
+        "known truths; FP: every prediction with a known name that is not a TP (a wrong name, a "
+        "named unknown object, a name on no object). Precision = TP / (TP + FP), recall = TP / "
+        "known truths. Unknown named: unknown truths whose match carries a known name. Pose ok: "
+        "TPs with ADD-S under 10 % of the object's diameter. s / scene: segmentation + "
+        "recognition, wall (generating the scene not counted).\n\n";
+
+  const auto table_header = [&] {
+    md << "| method | scenes | truth objects (known / unknown) | detection (%) | precision | "
+          "recall | F1 | unknown named (%) | pose ok (%) | s / scene |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|\n";
+  };
+  for (std::size_t si = 0; si < splits.size(); ++si) {
+    md << "### Split " << splits[si].name << " (seeds " << seeds_text(splits[si].seeds) << ")\n\n";
+    table_header();
+    nlohmann::json js = {{"name", splits[si].name}, {"seeds", splits[si].seeds}};
+    js["methods"] = nlohmann::json::array();
+    for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+      const Result& r = results[si][mi];
+      const SceneCounts& c = r.counts;
+      md << "| " << methods[mi].label << " | " << c.scenes << " | " << c.truths << " (" << c.known
+         << " / " << c.unknown << ") | " << pct(c.detection()) << " | " << fmt(c.precision(), 3)
+         << " | " << fmt(c.recall(), 3) << " | " << fmt(c.f1(), 3) << " | "
+         << pct(c.unknown_named_share()) << " (" << c.unknown_named << ") | " << pct(c.pose_rate())
+         << " | " << fmt(c.seconds_per_scene(), 1) << " |\n";
+      nlohmann::json jm = {{"label", methods[mi].label}, {"counts", counts_json(c)}};
+      jm["curve"] = nlohmann::json::array();
+      for (const SceneCurvePoint& p : proxseg::scene_curve(r.rows, c.known, c.unknown))
+        jm["curve"].push_back(point_json(p));
+      jm["at"] = nlohmann::json::array();
+      for (double t : thresholds)
+        jm["at"].push_back(point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t)));
+      jm["best_threshold"] = point_json(
+          proxseg::best_threshold(proxseg::scene_curve(r.rows, c.known, c.unknown), 0.1));
+      js["methods"].push_back(jm);
+    }
+    md << "\n";
+    summary["splits"].push_back(js);
+  }
+
+  md << "### ROC with negatives\n\nThe same answers re-thresholded: a prediction is named after "
+        "its best view when the score reaches the minimum, else \"unknown\" (the segmentation, "
+        "and proxseg's split and merge passes, which depend on the minimum score, are not "
+        "re-run). TPR = TP / known truths; every point of the curve is in scenes.json.\n\n"
+     << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (std::size_t mi = 0; mi < methods.size(); ++mi)
+    for (std::size_t si = 0; si < splits.size(); ++si) {
+      const Result& r = results[si][mi];
+      for (double t : thresholds) {
+        const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t);
+        md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(t, 2) << " | "
+           << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | " << fmt(p.precision, 3)
+           << " | " << fmt(p.f1, 3) << " |\n";
+      }
+    }
+  md << "\n";
+
+  // The minimum score of best F1 with at most 10 % of the unknowns named, chosen on the first
+  // split and applied to the others.
+  md << "### Minimum score chosen on " << splits.front().name
+     << "\n\nThe minimum score of largest F1 on " << splits.front().name
+     << " with at most 10 % of the unknown objects named"
+     << (splits.size() > 1 ? ", then applied to the other split" : "") << ".\n\n"
+     << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  summary["chosen_threshold"] = nlohmann::json::array();
+  for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+    const Result& d = results[0][mi];
+    const SceneCurvePoint best = proxseg::best_threshold(
+        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown), 0.1);
+    nlohmann::json jc = {{"label", methods[mi].label}, {"min_score", best.min_score}};
+    for (std::size_t si = 0; si < splits.size(); ++si) {
+      const Result& r = results[si][mi];
+      const SceneCurvePoint p =
+          proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, best.min_score);
+      md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(best.min_score, 3)
+         << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
+         << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";
+      jc[splits[si].name] = point_json(p);
+    }
+    summary["chosen_threshold"].push_back(jc);
+  }
+  md << "\n";
+
+  // Where it fails, over every split: counts per truth name (and answer).
+  md << "### Where it fails (all splits)\n\n"
+     << "| method | known named wrong (truth -> answer) | known called unknown | not detected "
+        "(IoU < 0.5) | unknown named | names on no object |\n|---|---|---|---|---|---|\n";
+  summary["failures"] = nlohmann::json::array();
+  for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+    std::map<std::string, int> wrong, called_unknown, missed, unknown_named, on_nothing;
+    for (std::size_t si = 0; si < splits.size(); ++si) {
+      const Result& r = results[si][mi];
+      for (const TruthRow& t : r.truths) {
+        if (t.prediction < 0) {
+          ++missed[t.truth.name];
+        } else if (t.truth.known && t.name == "unknown") {
+          ++called_unknown[t.truth.name];
+        } else if (t.truth.known && t.name != t.truth.name) {
+          ++wrong[t.truth.name + " -> " + t.name];
+        } else if (!t.truth.known && t.name != "unknown") {
+          ++unknown_named[t.truth.name + " -> " + t.name];
+        }
+      }
+      for (const PredictionRow& p : r.rows)
+        if (p.truth < 0 && p.name != "unknown") ++on_nothing[p.name];
+    }
+    md << "| " << methods[mi].label << " | " << top(wrong, 8) << " | " << top(called_unknown, 6)
+       << " | " << top(missed, 6) << " | " << top(unknown_named, 6) << " | " << top(on_nothing, 6)
+       << " |\n";
+    summary["failures"].push_back({{"label", methods[mi].label},
+                                   {"named_wrong", wrong},
+                                   {"called_unknown", called_unknown},
+                                   {"not_detected", missed},
+                                   {"unknown_named", unknown_named},
+                                   {"named_on_nothing", on_nothing}});
+  }
+  md << "\nPer prediction: `predictions.csv`; per truth object: `truths.csv`.\n";
+
+  csv << "method,split,scene,prediction,points,truth,truth_name,truth_known,iou,name,best,score,"
+         "runner_up,add_s_m,pose_ok\n";
+  truth_csv << "method,split,scene,label,name,catalogue,known,points,prediction,iou,answer,score\n";
+  for (std::size_t si = 0; si < splits.size(); ++si)
+    for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+      const Result& r = results[si][mi];
+      for (std::size_t j = 0; j < r.rows.size(); ++j) {
+        const PredictionRow& p = r.rows[j];
+        csv << '"' << methods[mi].label << "\"," << splits[si].name << "," << p.scene << ","
+            << p.prediction << "," << r.points[j] << "," << p.truth << "," << csv_name(p.truth_name)
+            << "," << p.truth_known << "," << fmt(p.iou, 3) << "," << p.name << ","
+            << csv_name(p.best) << "," << fmt(p.score, 4) << "," << fmt(p.runner_up, 4) << ","
+            << (p.add_s < 0 ? "" : fmt(p.add_s, 4)) << "," << p.pose_ok << "\n";
+      }
+      for (const TruthRow& t : r.truths)
+        truth_csv << '"' << methods[mi].label << "\"," << splits[si].name << "," << t.scene << ","
+                  << t.truth.label << "," << t.truth.name << "," << t.truth.catalogue << ","
+                  << t.truth.known << "," << t.truth.points.size() << "," << t.prediction << ","
+                  << fmt(t.iou, 3) << "," << csv_name(t.name) << "," << fmt(t.score, 4) << "\n";
+    }
+
+  proxseg::write_file_atomic((out / "scenes.md").string(), md.str());
+  proxseg::write_file_atomic((out / "scenes.json").string(), summary.dump(2) + "\n");
+  proxseg::write_file_atomic((out / "predictions.csv").string(), csv.str());
+  proxseg::write_file_atomic((out / "truths.csv").string(), truth_csv.str());
+  if (o.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << md.str();
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // The CLI's allocator settings, so that the times compare with the other benchmarks'.
+  proxseg::keep_freed_memory();
+  CLI::App app{
+      "scene_bench: end-to-end scene recognition (segmentation + recognition) on generated "
+      "cluttered tabletops with known, look-alike and unknown objects, proxseg against PCL + "
+      "Open3D"};
+  Options o;
+  app.add_option("--models", o.models, "Folder of the LINEMOD meshes (obj_0000NN.ply, mm)")
+      ->capture_default_str();
+  app.add_option("-o,--output", o.output,
+                 "Output folder (scenes.md, scenes.json, predictions.csv, truths.csv)")
+      ->required();
+  auto* dev = app.add_option("--dev-seeds", o.dev_seeds, "Seeds of the development split")
+                  ->capture_default_str();
+  auto* report = app.add_option("--report-seeds", o.report_seeds, "Seeds of the report split")
+                     ->capture_default_str();
+  auto* scenes = app.add_option("--scenes", o.scenes,
+                                "One split of N scenes (seeds --first-seed..) instead of dev "
+                                "and report")
+                     ->check(CLI::Range(1, 100000))
+                     ->excludes(dev)
+                     ->excludes(report);
+  app.add_option("--first-seed", o.first_seed, "First seed of --scenes")
+      ->needs(scenes)
+      ->capture_default_str();
+  app.add_option("--views", o.views, "Database views per known object")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--threads", o.threads,
+                 "Threads (0 = all cores); proxseg's answers do not depend on it (the peer's may)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  app.add_option("--config", o.config,
+                 "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults (as "
+                 "proxseg recognize --config)");
+  app.add_option("--peers", o.peers, "all (PCL Euclidean + Open3D) or none")->capture_default_str();
+  app.add_flag("--json", o.json, "Print scenes.json on stdout");
+  try {
+    app.parse(argc, argv);
+    return run(o);
+  } catch (const CLI::ParseError& e) {  // also the seed lists and --peers, checked by run()
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const std::exception& e) {  // InputError: models, config, output folder
+    std::cerr << "scene_bench: error: " << e.what() << "\n";
+    return 1;
+  }
+}
