@@ -104,7 +104,7 @@ bench-rec: deps-bench configure
 	@echo "docs/results.md (recognition) regenerated; tables, CSV and plots in $(REC_OUT)/"
 
 # Scene recognition end to end (scene_eval.hpp): 20 development + 20 report scenes through
-# proxseg and the PCL + Open3D peer.
+# proxseg and the PCL + Open3D peer: about 1.5-2 h on 2 shared cores (3-4 min per scene).
 SCENES_OUT = $(BUILD)/bench-out/scenes
 bench-scenes: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target scene_bench
