@@ -75,7 +75,8 @@ proxseg::Database open_for_adding(const DbOptions& o) {
 
 void report(const proxseg::ModelView& v) {
   std::cerr << "proxseg: added " << v.object << " view " << v.file << " (" << v.cloud.size()
-            << " points" << (v.cloud.colours.empty() ? ", no colour: recognised by shape alone" : "")
+            << " points"
+            << (v.cloud.colours.empty() ? ", no colour: recognised by shape alone" : "")
             << ") from " << v.source << "\n";
 }
 

@@ -37,6 +37,9 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "model coverage, geometry only) or fitness (paper eq. 5)")
       ->check(CLI::IsMember({"colour", "symmetric", "fitness"}));
   cmd->add_option("--min-score", o.min_score, "Below this best score the answer is \"unknown\"");
+  cmd->add_option("--min-margin", o.min_margin,
+                  "Below this lead of the best score over the runner-up's the answer is "
+                  "\"unknown\"");
   cmd->add_option("--shortlist", o.shortlist,
                   "Views aligned per candidate: the nearest by signature (0 = every view)");
   cmd->add_option("--early-exit", o.early_exit,
@@ -72,6 +75,7 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
               : *o.score == "symmetric" ? proxseg::Score::kSymmetric
                                         : proxseg::Score::kColour;
   if (o.shortlist) p.shortlist = *o.shortlist;
+  if (o.min_margin) p.min_margin = *o.min_margin;
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;

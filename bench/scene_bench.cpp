@@ -179,7 +179,8 @@ std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labe
 // The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
 // Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
 // (rec_bench's peer), the poses scored and the candidate named exactly as proxseg::recognize
-// does (same score, ties to the earlier view, same min_score). A cluster too small to describe
+// does (same score with the candidate's colours, ties to the earlier view, same min_score and
+// min_margin). A cluster too small to describe
 // is not made, as recognize_scene() does with such candidates.
 std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
                                    const proxseg::peers::Open3dPeer& open3d,
@@ -189,11 +190,15 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
   std::vector<Prediction> out;
   for (std::vector<int>& points : segments_of(labels, plane ? 2 : 1)) {
     std::vector<Eigen::Vector3d> xyz;
+    std::vector<proxseg::Rgb> rgb;
     xyz.reserve(points.size());
-    for (int k : points) xyz.push_back(frame.xyz[k].cast<double>());
+    for (int k : points) {
+      xyz.push_back(frame.xyz[k].cast<double>());
+      if (frame.rgb.size() == frame.size()) rgb.push_back(frame.rgb[k]);
+    }
     proxseg::Cloud c;
     try {
-      c = proxseg::describe_candidate(xyz, db);
+      c = proxseg::describe_candidate(xyz, db, rgb.empty() ? nullptr : &rgb);
     } catch (const InputError&) {
       continue;
     }
@@ -218,8 +223,13 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
       for (int v = 0; v < n; ++v)
         if (aligned[v].found && db.views[v].object != p.best)
           p.runner_up = std::max(p.runner_up, score[v]);
+      const proxseg::Alignment a =
+          proxseg::score_pose(c, db.views[best].cloud, aligned[best].pose, rp.registration);
+      p.colour = a.coloured ? a.colour : -1;
     }
-    p.name = best >= 0 && p.score >= rp.min_score ? p.best : "unknown";
+    p.name = best >= 0 && p.score >= rp.min_score && p.score - p.runner_up >= rp.min_margin
+                 ? p.best
+                 : "unknown";
     out.push_back(std::move(p));
   }
   return out;
@@ -288,6 +298,7 @@ int run(const Options& o) {
   if (!o.config.empty()) std::tie(sp, rp) = proxseg::read_recognize_params(o.config, sp, rp);
   sp.threads = rp.threads = o.threads;
   proxseg::validate(sp);
+  const double margin = rp.min_margin;  // the curves move min_score and keep the margin
   proxseg::validate(rp);
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const int team = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -454,13 +465,13 @@ int run(const Options& o) {
          << " | " << fmt(c.seconds_per_scene(), 1) << " |\n";
       nlohmann::json jm = {{"label", methods[mi].label}, {"counts", counts_json(c)}};
       jm["curve"] = nlohmann::json::array();
-      for (const SceneCurvePoint& p : proxseg::scene_curve(r.rows, c.known, c.unknown))
+      for (const SceneCurvePoint& p : proxseg::scene_curve(r.rows, c.known, c.unknown, margin))
         jm["curve"].push_back(point_json(p));
       jm["at"] = nlohmann::json::array();
       for (double t : thresholds)
-        jm["at"].push_back(point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t)));
+        jm["at"].push_back(point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t, margin)));
       jm["best_threshold"] = point_json(
-          proxseg::best_threshold(proxseg::scene_curve(r.rows, c.known, c.unknown), 0.1));
+          proxseg::best_threshold(proxseg::scene_curve(r.rows, c.known, c.unknown, margin), 0.1));
       js["methods"].push_back(jm);
     }
     md << "\n";
@@ -468,7 +479,8 @@ int run(const Options& o) {
   }
 
   md << "### ROC with negatives\n\nThe same answers re-thresholded: a prediction is named after "
-        "its best view when the score reaches the minimum, else \"unknown\" (the segmentation, "
+        "its best view when the score reaches the minimum (and leads the runner-up by min_margin, "
+        "kept at the run's value), else \"unknown\" (the segmentation, "
         "and proxseg's split and merge passes, which depend on the minimum score, are not "
         "re-run). TPR = TP / known truths; every point of the curve is in scenes.json.\n\n"
      << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
@@ -477,7 +489,8 @@ int run(const Options& o) {
     for (std::size_t si = 0; si < splits.size(); ++si) {
       const Result& r = results[si][mi];
       for (double t : thresholds) {
-        const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t);
+        const SceneCurvePoint p =
+            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, margin);
         md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(t, 2) << " | "
            << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | " << fmt(p.precision, 3)
            << " | " << fmt(p.f1, 3) << " |\n";
@@ -497,12 +510,12 @@ int run(const Options& o) {
   for (std::size_t mi = 0; mi < methods.size(); ++mi) {
     const Result& d = results[0][mi];
     const SceneCurvePoint best = proxseg::best_threshold(
-        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown), 0.1);
+        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin), 0.1);
     nlohmann::json jc = {{"label", methods[mi].label}, {"min_score", best.min_score}};
     for (std::size_t si = 0; si < splits.size(); ++si) {
       const Result& r = results[si][mi];
       const SceneCurvePoint p =
-          proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, best.min_score);
+          proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, best.min_score, margin);
       md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(best.min_score, 3)
          << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
          << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";
@@ -548,7 +561,7 @@ int run(const Options& o) {
   md << "\nPer prediction: `predictions.csv`; per truth object: `truths.csv`.\n";
 
   csv << "method,split,scene,prediction,points,truth,truth_name,truth_known,iou,name,best,score,"
-         "runner_up,add_s_m,pose_ok\n";
+         "runner_up,colour,add_s_m,pose_ok\n";
   truth_csv << "method,split,scene,label,name,catalogue,known,points,prediction,iou,answer,score\n";
   for (std::size_t si = 0; si < splits.size(); ++si)
     for (std::size_t mi = 0; mi < methods.size(); ++mi) {
@@ -559,7 +572,8 @@ int run(const Options& o) {
             << p.prediction << "," << r.points[j] << "," << p.truth << "," << csv_name(p.truth_name)
             << "," << p.truth_known << "," << fmt(p.iou, 3) << "," << p.name << ","
             << csv_name(p.best) << "," << fmt(p.score, 4) << "," << fmt(p.runner_up, 4) << ","
-            << (p.add_s < 0 ? "" : fmt(p.add_s, 4)) << "," << p.pose_ok << "\n";
+            << (p.colour < 0 ? "" : fmt(p.colour, 4)) << "," << (p.add_s < 0 ? "" : fmt(p.add_s, 4))
+            << "," << p.pose_ok << "\n";
       }
       for (const TruthRow& t : r.truths)
         truth_csv << '"' << methods[mi].label << "\"," << splits[si].name << "," << t.scene << ","

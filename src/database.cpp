@@ -57,8 +57,7 @@ std::string cache_bytes(const Cloud& c) {
 }
 
 Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
-                 std::vector<Rgb> colours,
-                 std::size_t expected_dims) {
+                 std::vector<Rgb> colours, std::size_t expected_dims) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the feature cache (expected the file named in index.json)");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

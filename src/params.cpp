@@ -109,7 +109,9 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "score_distance", p.registration.score_distance);
   f("", "score", p.score);
   f("", "min_score", p.min_score);
+  f("", "min_margin", p.min_margin);
   f("", "shortlist", p.shortlist);
+  f("", "trial_shortlist", p.trial_shortlist);
   f("", "early_exit", p.early_exit);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
@@ -419,7 +421,9 @@ void validate(const RecognitionParams& p) {
   require(positive(r.fitness_distance), "registration.fitness_distance", "> 0 metres");
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
   require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
+  require(p.min_margin >= 0 && p.min_margin <= 1, "min_margin", "in [0, 1]");
   require(p.shortlist >= 0, "shortlist", ">= 0 (0 = every view)");
+  require(p.trial_shortlist >= 0, "trial_shortlist", ">= 0 (0 = every view of the objects)");
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
   require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");
   require(p.merge_distance >= 0 && p.merge_distance <= 1, "merge_distance", "0 (off) .. 1 metre");

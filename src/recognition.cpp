@@ -32,7 +32,8 @@ double score_of(const Alignment& a, Score score) {
     case Score::kSymmetric:
       return std::sqrt(a.close_fitness * a.coverage);
     case Score::kColour:
-      return std::sqrt(a.close_fitness * a.coverage) * a.colour;
+      return std::sqrt(a.close_fitness * a.coverage) *
+             (a.coloured ? a.colour : kColourlessAgreement);
   }
   return 0;
 }
@@ -49,17 +50,25 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
     if (!objects.empty() &&
         std::find(objects.begin(), objects.end(), db.views[v].object) == objects.end())
       continue;
-    ranked.emplace_back(shortlist > 0 ? signature_distance(candidate.signature,
-                                                           db.views[v].cloud.signature)
-                                      : 0.0,
-                        v);
+    ranked.emplace_back(
+        shortlist > 0 ? signature_distance(candidate.signature, db.views[v].cloud.signature) : 0.0,
+        v);
   }
   // Ties (and the whole order without a shortlist) go by view index.
   std::stable_sort(ranked.begin(), ranked.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  if (shortlist > 0 && static_cast<int>(ranked.size()) > shortlist) ranked.resize(shortlist);
   std::vector<int> out;
-  for (const auto& r : ranked) out.push_back(r.second);
+  for (const auto& r : ranked) {
+    if (shortlist > 0 && static_cast<int>(out.size()) >= shortlist) {
+      // Keep going only for the nearest view of a second object.
+      const std::string& first = db.views[out.front()].object;
+      const bool one_object =
+          std::all_of(out.begin(), out.end(), [&](int v) { return db.views[v].object == first; });
+      if (!one_object) break;
+      if (db.views[r.second].object == first) continue;
+    }
+    out.push_back(r.second);
+  }
   return out;
 }
 
@@ -95,7 +104,7 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   // Algorithm 3: the best view names the candidate; ties go to the earlier view.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
-    return Match{db.views[v].object,        v,      a.pose,   a.fitness, a.coverage,
+    return Match{db.views[v].object,        v,      a.pose,  a.fitness, a.coverage,
                  score_of(a, params.score), a.rmse, a.colour};
   };
   for (int v = 0; v < n; ++v) {
@@ -108,7 +117,10 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     const Match m = to_match(v);
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
-  r.name = r.best.view >= 0 && r.best.score >= params.min_score ? r.best.object : "unknown";
+  const double margin = r.best.score - (r.runner_up.view >= 0 ? r.runner_up.score : 0.0);
+  r.name = r.best.view >= 0 && r.best.score >= params.min_score && margin >= params.min_margin
+               ? r.best.object
+               : "unknown";
   return r;
 }
 
@@ -177,7 +189,9 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
       return false;
     }
     const double describe_ms = describe_watch.ms();
-    o.recognition = recognize(out.cloud, db, params, objects);
+    RecognitionParams p = params;
+    if (!objects.empty()) p.shortlist = params.trial_shortlist;
+    o.recognition = recognize(out.cloud, db, p, objects);
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);
     out.box.setEmpty();
@@ -285,4 +299,3 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
 }
 
 }  // namespace proxseg
-

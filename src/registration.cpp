@@ -123,9 +123,9 @@ Signature make_signature(const Cloud& c) {
       const double fx = x.x() - x0, fy = x.y() - y0;
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
-          const int cx = std::clamp(x0 + dx, 0, kCells - 1), cy = std::clamp(y0 + dy, 0, kCells - 1);
-          s.colour[cy * kCells + cx] +=
-              static_cast<float>((dx ? fx : 1 - fx) * (dy ? fy : 1 - fy));
+          const int cx = std::clamp(x0 + dx, 0, kCells - 1),
+                    cy = std::clamp(y0 + dy, 0, kCells - 1);
+          s.colour[cy * kCells + cx] += static_cast<float>((dx ? fx : 1 - fx) * (dy ? fy : 1 - fy));
         }
     }
     s.colour /= s.colour.sum();
@@ -677,6 +677,7 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   a.coverage = scored.coverage;
   a.rmse = scored.rmse;
   a.colour = scored.colour;
+  a.coloured = scored.coloured;
   a.score_ms = watch.lap();
   return a;
 }
@@ -689,6 +690,7 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
   a.close_fitness = fitness(candidate, view, pose, params.score_distance);
   a.coverage = coverage(candidate, view, pose, params.score_distance);
   a.colour = colour_agreement(candidate, view, pose, params.score_distance);
+  a.coloured = !candidate.colours.empty() && !view.colours.empty();
   return a;
 }
 

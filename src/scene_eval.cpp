@@ -258,6 +258,10 @@ std::vector<Prediction> predictions_of(const std::vector<SceneObject>& objects) 
     p.best = o.recognition.best.object;
     p.score = o.recognition.best.score;
     p.runner_up = o.recognition.runner_up.view >= 0 ? o.recognition.runner_up.score : 0;
+    p.colour =
+        o.recognition.best.view >= 0 && o.recognition.alignments[o.recognition.best.view].coloured
+            ? o.recognition.best.colour
+            : -1;
     p.pose = o.recognition.best.pose;
     out.push_back(std::move(p));
   }
@@ -402,6 +406,7 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
     r.best = p.best;
     r.score = p.score;
     r.runner_up = p.runner_up;
+    r.colour = p.colour;
   }
   std::vector<char> tp(predictions.size(), 0);
   for (std::size_t i = 0; i < truth.size(); ++i) {
@@ -441,11 +446,12 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
 }
 
 SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
-                            double min_score) {
+                            double min_score, double min_margin) {
   SceneCurvePoint p;
   p.min_score = min_score;
   for (const PredictionRow& r : rows) {
-    if (r.best.empty() || r.score < min_score) continue;  // "unknown" at this threshold
+    if (r.best.empty() || r.score < min_score || r.score - r.runner_up < min_margin)
+      continue;  // "unknown" at this threshold
     const bool right = r.truth >= 0 && r.truth_known && r.best == r.truth_name;
     (right ? p.tp : p.fp) += 1;
     p.unknown_named += r.truth >= 0 && !r.truth_known;
@@ -458,15 +464,15 @@ SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, i
 }
 
 std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
-                                         int unknown) {
+                                         int unknown, double min_margin) {
   std::vector<double> scores;
   for (const PredictionRow& r : rows)
     if (!r.best.empty()) scores.push_back(r.score);
   std::sort(scores.begin(), scores.end(), std::greater<double>());
   scores.erase(std::unique(scores.begin(), scores.end()), scores.end());
   std::vector<SceneCurvePoint> curve = {
-      scene_point(rows, known, unknown, scores.empty() ? 1.0 : scores.front() + 1e-9)};
-  for (double s : scores) curve.push_back(scene_point(rows, known, unknown, s));
+      scene_point(rows, known, unknown, scores.empty() ? 1.0 : scores.front() + 1e-9, min_margin)};
+  for (double s : scores) curve.push_back(scene_point(rows, known, unknown, s, min_margin));
   return curve;
 }
 

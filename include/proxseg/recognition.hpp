@@ -20,17 +20,30 @@ enum class Score {
                // the visible model the candidate explains, so that a small box on the face of a
                // big one does not score 1
   kColour,     // kSymmetric x the colour agreement of the explained points (Alignment::colour):
-               // tells apart objects of one shape in different colours; geometry alone when the
-               // candidate or the view has no colour
+               // tells apart objects of one shape in different colours. When the candidate or the
+               // view has no colour, x kColourlessAgreement instead.
 };
+
+// The colour term of a comparison without colour: about what a right answer's colour agreement
+// is (docs/method.md "Colour in recognition"), so that a view without colour neither wins over
+// coloured ones nor passes the minimum score for free.
+constexpr double kColourlessAgreement = 0.93;
 
 struct RecognitionParams {
   RegistrationParams registration;
   Score score = Score::kColour;
   double min_score = 0.5;  // best score below it: "unknown"
-  // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp)
-  // [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
+  // Best score minus the runner-up's (the best view of another object) below it: "unknown"
+  // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
+  // well, as happens for an object the database does not hold, which several models fit a bit.
+  double min_margin = 0.15;
+  // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp),
+  // with the nearest view of a second object when they all show one, so that there is a
+  // runner-up [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
   int shortlist = 16;
+  // Views aligned per split or merge trial of recognize_scene(), among the views of the objects
+  // the trial concerns (nearest by signature); 0 = all of those objects' views.
+  int trial_shortlist = 4;
   // > 0: stop after the first batch of views (8 at a time, in database order) in which some
   // view reached this score. Faster; may change the answer (a later view could score higher).
   double early_exit = 0;
@@ -58,12 +71,12 @@ struct Match {
 };
 
 struct Recognition {
-  std::string name;  // best.object, or "unknown" when best.score < min_score
+  std::string name;  // best.object, or "unknown" (under min_score or min_margin)
   Match best;
   Match runner_up;                    // the best view of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
   int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
-  double align_ms = 0;     // wall time over all views
+  double align_ms = 0;                // wall time over all views
   double describe_ms = 0;  // left to the caller, which describes the candidate (the CLI does)
 };
 
@@ -74,7 +87,8 @@ double score_of(const Alignment& a, Score score);
 Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
                          const std::vector<Rgb>* colours = nullptr);
 // The views recognize() aligns: those of `objects` (every object when empty), the `shortlist`
-// nearest to the candidate by signature (all when 0), nearest first.
+// nearest to the candidate by signature (all when 0), nearest first, and the nearest view of
+// another object when those show only one.
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
                                  const std::vector<std::string>& objects = {});
 // Algorithm 3 for one described candidate, over the views of `objects` (all when empty).

@@ -109,8 +109,9 @@ struct Alignment {
                              // that have a candidate point within score_distance (model-side term)
   double rmse = 0;           // of the fitness inliers
   // Colour agreement of the close_fitness inliers with the view points that explain them, in
-  // [0, 1] (colour_agreement()); 1 when either cloud has no colour.
+  // [0, 1] (colour_agreement()); 1 and coloured = false when either cloud has no colour.
   double colour = 1;
+  bool coloured = false;
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };

@@ -83,6 +83,7 @@ struct Prediction {
   std::string best;         // the best view's object before min_score ("" = nothing aligned)
   double score = 0;         // of the best view
   double runner_up = 0;     // best score of any other object's views
+  double colour = -1;       // the best view's colour agreement (Alignment::colour), -1 = none
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // camera <- model, of the best view
 };
 // recognize_scene()'s objects as predictions (the candidates are in the sensor frame, so the
@@ -123,7 +124,7 @@ struct PredictionRow {
   bool truth_known = false;
   double iou = 0;
   std::string name, best;  // Prediction::name and ::best
-  double score = 0, runner_up = 0;
+  double score = 0, runner_up = 0, colour = -1;
   double add_s = -1;  // metres, when the prediction names its matched known truth; else -1
   bool pose_ok = false;
 };
@@ -164,7 +165,8 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
                                const SceneCatalogue& catalogue, const SceneEvalParams& params = {});
 
 // The ROC with negatives: the rows' answers re-thresholded at min_score (a prediction is named
-// `best` when score >= min_score, else "unknown"), with the matching kept.
+// `best` when score >= min_score and score - runner_up >= min_margin, else "unknown"), with the
+// matching kept.
 struct SceneCurvePoint {
   double min_score = 0;
   int tp = 0, fp = 0, unknown_named = 0;
@@ -174,10 +176,10 @@ struct SceneCurvePoint {
   double f1 = 0;
 };
 SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
-                            double min_score);
+                            double min_score, double min_margin = 0);
 // From above every score down to 0: one point per distinct score, then min_score 0.
 std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
-                                         int unknown);
+                                         int unknown, double min_margin = 0);
 // The point of the largest F1 whose unknown_named_share is at most max_unknown_named (ties: the
 // higher min_score); the curve's first point (nothing named) when none qualifies.
 SceneCurvePoint best_threshold(const std::vector<SceneCurvePoint>& curve,
