@@ -40,11 +40,13 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("--min-margin", o.min_margin,
                   "Below this lead of the best score over the runner-up's the answer is "
                   "\"unknown\"");
+  cmd->add_option("--confident-score", o.confident_score,
+                  "At or above this best score the --min-margin lead is not asked for");
   cmd->add_option("--shortlist", o.shortlist,
                   "Views aligned per candidate: the nearest by signature (0 = every view)");
   cmd->add_option("--early-exit", o.early_exit,
                   "Stop after the batch of 8 views in which a view reached this score (faster; "
-                  "may change the answer)");
+                  "may change the answer; 0 = align the whole shortlist)");
   cmd->add_option("--fitness-distance", o.fitness_distance,
                   "delta_th of eq. 4: a point is explained within this distance, metres");
   cmd->add_option("--ransac-iterations", o.ransac_iterations, "RANSAC hypotheses per view");
@@ -76,6 +78,7 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
                                         : proxseg::Score::kColour;
   if (o.shortlist) p.shortlist = *o.shortlist;
   if (o.min_margin) p.min_margin = *o.min_margin;
+  if (o.confident_score) p.confident_score = *o.confident_score;
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;

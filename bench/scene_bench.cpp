@@ -227,9 +227,8 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
           proxseg::score_pose(c, db.views[best].cloud, aligned[best].pose, rp.registration);
       p.colour = a.coloured ? a.colour : -1;
     }
-    p.name = best >= 0 && p.score >= rp.min_score && p.score - p.runner_up >= rp.min_margin
-                 ? p.best
-                 : "unknown";
+    const bool clear = p.score - p.runner_up >= rp.min_margin || p.score >= rp.confident_score;
+    p.name = best >= 0 && p.score >= rp.min_score && clear ? p.best : "unknown";
     out.push_back(std::move(p));
   }
   return out;
@@ -298,7 +297,8 @@ int run(const Options& o) {
   if (!o.config.empty()) std::tie(sp, rp) = proxseg::read_recognize_params(o.config, sp, rp);
   sp.threads = rp.threads = o.threads;
   proxseg::validate(sp);
-  const double margin = rp.min_margin;  // the curves move min_score and keep the margin
+  // The curves move min_score and keep the margin rule.
+  const double margin = rp.min_margin, confident = rp.confident_score;
   proxseg::validate(rp);
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const int team = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -465,13 +465,15 @@ int run(const Options& o) {
          << " | " << fmt(c.seconds_per_scene(), 1) << " |\n";
       nlohmann::json jm = {{"label", methods[mi].label}, {"counts", counts_json(c)}};
       jm["curve"] = nlohmann::json::array();
-      for (const SceneCurvePoint& p : proxseg::scene_curve(r.rows, c.known, c.unknown, margin))
+      for (const SceneCurvePoint& p :
+           proxseg::scene_curve(r.rows, c.known, c.unknown, margin, confident))
         jm["curve"].push_back(point_json(p));
       jm["at"] = nlohmann::json::array();
       for (double t : thresholds)
-        jm["at"].push_back(point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t, margin)));
-      jm["best_threshold"] = point_json(
-          proxseg::best_threshold(proxseg::scene_curve(r.rows, c.known, c.unknown, margin), 0.1));
+        jm["at"].push_back(
+            point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t, margin, confident)));
+      jm["best_threshold"] = point_json(proxseg::best_threshold(
+          proxseg::scene_curve(r.rows, c.known, c.unknown, margin, confident), 0.1));
       js["methods"].push_back(jm);
     }
     md << "\n";
@@ -479,8 +481,9 @@ int run(const Options& o) {
   }
 
   md << "### ROC with negatives\n\nThe same answers re-thresholded: a prediction is named after "
-        "its best view when the score reaches the minimum (and leads the runner-up by min_margin, "
-        "kept at the run's value), else \"unknown\" (the segmentation, "
+        "its best view when the score reaches the minimum (and leads the runner-up by min_margin "
+        "unless it reaches confident_score, both kept at the run's value), else \"unknown\" (the "
+        "segmentation, "
         "and proxseg's split and merge passes, which depend on the minimum score, are not "
         "re-run). TPR = TP / known truths; every point of the curve is in scenes.json.\n\n"
      << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
@@ -490,7 +493,7 @@ int run(const Options& o) {
       const Result& r = results[si][mi];
       for (double t : thresholds) {
         const SceneCurvePoint p =
-            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, margin);
+            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, margin, confident);
         md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(t, 2) << " | "
            << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | " << fmt(p.precision, 3)
            << " | " << fmt(p.f1, 3) << " |\n";
@@ -510,12 +513,12 @@ int run(const Options& o) {
   for (std::size_t mi = 0; mi < methods.size(); ++mi) {
     const Result& d = results[0][mi];
     const SceneCurvePoint best = proxseg::best_threshold(
-        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin), 0.1);
+        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin, confident), 0.1);
     nlohmann::json jc = {{"label", methods[mi].label}, {"min_score", best.min_score}};
     for (std::size_t si = 0; si < splits.size(); ++si) {
       const Result& r = results[si][mi];
-      const SceneCurvePoint p =
-          proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, best.min_score, margin);
+      const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown,
+                                                     best.min_score, margin, confident);
       md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(best.min_score, 3)
          << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
          << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";

@@ -263,8 +263,8 @@ TopEigen top_eigen_lanczos(const Eigen::MatrixXd& lower, int k) {
       const double largest = ritz.eigenvalues()(m - 1);
       bool converged = largest > 0;
       for (int c = 0; c < k && converged; ++c)
-        converged = std::abs(beta(j) * ritz.eigenvectors()(m - 1, m - 1 - c)) <=
-                    kTolerance * largest;
+        converged =
+            std::abs(beta(j) * ritz.eigenvectors()(m - 1, m - 1 - c)) <= kTolerance * largest;
       if (converged) {
         TopEigen out;
         out.largest = largest;
@@ -306,7 +306,8 @@ FeatureSpace principal_axes(const Eigen::MatrixXf& features, int dims, int threa
   if (varying.empty()) return space;
   const Eigen::MatrixXd cov = covariance_lower(features, varying, threads);
   const int k = std::min<int>(dims, d);
-  const TopEigen eig = solver == PcaSolver::kLanczos ? top_eigen_lanczos(cov, k) : top_eigen(cov, k);
+  const TopEigen eig =
+      solver == PcaSolver::kLanczos ? top_eigen_lanczos(cov, k) : top_eigen(cov, k);
   // Keep the leading axes, but none that carries no variance (switched-off blocks, n < dims).
   const double floor = std::max(eig.largest, 0.0) * 1e-9;
   int keep = 0;

@@ -110,6 +110,7 @@ void recognition_fields(P& p, F&& f) {
   f("", "score", p.score);
   f("", "min_score", p.min_score);
   f("", "min_margin", p.min_margin);
+  f("", "confident_score", p.confident_score);
   f("", "shortlist", p.shortlist);
   f("", "trial_shortlist", p.trial_shortlist);
   f("", "early_exit", p.early_exit);
@@ -422,6 +423,8 @@ void validate(const RecognitionParams& p) {
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
   require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
   require(p.min_margin >= 0 && p.min_margin <= 1, "min_margin", "in [0, 1]");
+  require(p.confident_score >= 0 && p.confident_score <= 1, "confident_score",
+          "in [0, 1] (1: always ask for the margin)");
   require(p.shortlist >= 0, "shortlist", ">= 0 (0 = every view)");
   require(p.trial_shortlist >= 0, "trial_shortlist", ">= 0 (0 = every view of the objects)");
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");

@@ -118,9 +118,9 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
   const double margin = r.best.score - (r.runner_up.view >= 0 ? r.runner_up.score : 0.0);
-  r.name = r.best.view >= 0 && r.best.score >= params.min_score && margin >= params.min_margin
-               ? r.best.object
-               : "unknown";
+  const bool clear = margin >= params.min_margin || r.best.score >= params.confident_score;
+  r.name =
+      r.best.view >= 0 && r.best.score >= params.min_score && clear ? r.best.object : "unknown";
   return r;
 }
 
@@ -166,6 +166,24 @@ bool near(const Piece& a, const Piece& b, double distance) {
   return false;
 }
 
+// Two described pieces as one cloud without describing the union again: points, normals,
+// features and colours side by side. Near the seam each part's FPFH misses the other part's
+// points; a merge trial's registration hardly notices, and its score depends on the points only.
+Cloud joined(const Cloud& a, const Cloud& b) {
+  std::vector<Eigen::Vector3d> points = a.points, normals = a.normals;
+  points.insert(points.end(), b.points.begin(), b.points.end());
+  normals.insert(normals.end(), b.normals.begin(), b.normals.end());
+  Eigen::MatrixXd features(a.features.rows(), a.features.cols() + b.features.cols());
+  features << a.features, b.features;
+  std::vector<Rgb> colours;
+  if (!a.colours.empty() && !b.colours.empty()) {
+    colours = a.colours;
+    colours.insert(colours.end(), b.colours.begin(), b.colours.end());
+  }
+  return restore(std::move(points), std::move(normals), std::move(features), a.viewpoint,
+                 std::move(colours));
+}
+
 bool named(const Piece& p) {
   return p.object.recognition.name != "unknown";
 }
@@ -180,11 +198,15 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
                                          const std::function<void(const SceneObject&)>& progress) {
   // Pieces too small for a description (under 10 voxels) stay unrecognised and are not made.
   // objects: the database objects to try (all when empty).
-  auto recognise = [&](SceneObject o, Piece& out, const std::vector<std::string>& objects = {}) {
+  // described: the piece's cloud when the caller has it (a merge trial's joined parts).
+  auto recognise = [&](SceneObject o, Piece& out, const std::vector<std::string>& objects = {},
+                       Cloud* described = nullptr) {
     const detail::Stopwatch describe_watch;
     try {
       const std::vector<Rgb> rgb = rgb_of(frame, o.points);
-      out.cloud = describe_candidate(xyz_of(frame, o.points), db, rgb.empty() ? nullptr : &rgb);
+      out.cloud =
+          described ? std::move(*described)
+                    : describe_candidate(xyz_of(frame, o.points), db, rgb.empty() ? nullptr : &rgb);
     } catch (const InputError&) {
       return false;
     }
@@ -196,17 +218,29 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
     out.object = std::move(o);
     out.box.setEmpty();
     for (const auto& p : out.cloud.points) out.box.extend(p);
-    if (progress) progress(out.object);
+    if (progress) {
+#pragma omp critical(proxseg_recognise_progress)
+      progress(out.object);
+    }
     return true;
   };
 
-  std::vector<Piece> pieces;
-  for (const Candidate& c : selection.components) {
-    if (c.background) continue;
-    Piece p;
-    if (recognise({c.points, {c.instance}, SceneObject::Origin::kCandidate, {}}, p))
-      pieces.push_back(std::move(p));
+  // The candidates are independent: one per thread (each one's views then run on that thread),
+  // which keeps both cores busy better than the views of one candidate in batches.
+  std::vector<const Candidate*> candidates;
+  for (const Candidate& c : selection.components)
+    if (!c.background) candidates.push_back(&c);
+  std::vector<Piece> first(candidates.size());
+  std::vector<char> made(candidates.size(), 0);
+  const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
+    const Candidate& c = *candidates[k];
+    made[k] = recognise({c.points, {c.instance}, SceneObject::Origin::kCandidate, {}}, first[k]);
   }
+  std::vector<Piece> pieces;
+  for (std::size_t k = 0; k < first.size(); ++k)
+    if (made[k]) pieces.push_back(std::move(first[k]));
 
   // Split: the model that names a candidate with a poor fitness keeps the points it explains;
   // the rest is recognised on its own (and may be split again). Both parts must be named, so an
@@ -277,8 +311,9 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
             std::vector<std::string> objects;
             for (const Piece* part : {&a, &b})
               if (named(*part)) objects.push_back(part->object.recognition.best.object);
+            Cloud both = joined(a.cloud, b.cloud);
             Piece p;
-            if (!recognise(std::move(u), p, objects)) continue;
+            if (!recognise(std::move(u), p, objects, &both)) continue;
             it = tried.emplace(key, std::move(p)).first;
           }
           const Piece& u = it->second;

@@ -446,12 +446,12 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
 }
 
 SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
-                            double min_score, double min_margin) {
+                            double min_score, double min_margin, double confident_score) {
   SceneCurvePoint p;
   p.min_score = min_score;
   for (const PredictionRow& r : rows) {
-    if (r.best.empty() || r.score < min_score || r.score - r.runner_up < min_margin)
-      continue;  // "unknown" at this threshold
+    const bool clear = r.score - r.runner_up >= min_margin || r.score >= confident_score;
+    if (r.best.empty() || r.score < min_score || !clear) continue;  // "unknown" at this threshold
     const bool right = r.truth >= 0 && r.truth_known && r.best == r.truth_name;
     (right ? p.tp : p.fp) += 1;
     p.unknown_named += r.truth >= 0 && !r.truth_known;
@@ -464,15 +464,17 @@ SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, i
 }
 
 std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
-                                         int unknown, double min_margin) {
+                                         int unknown, double min_margin, double confident_score) {
   std::vector<double> scores;
   for (const PredictionRow& r : rows)
     if (!r.best.empty()) scores.push_back(r.score);
   std::sort(scores.begin(), scores.end(), std::greater<double>());
   scores.erase(std::unique(scores.begin(), scores.end()), scores.end());
-  std::vector<SceneCurvePoint> curve = {
-      scene_point(rows, known, unknown, scores.empty() ? 1.0 : scores.front() + 1e-9, min_margin)};
-  for (double s : scores) curve.push_back(scene_point(rows, known, unknown, s, min_margin));
+  std::vector<SceneCurvePoint> curve = {scene_point(rows, known, unknown,
+                                                    scores.empty() ? 1.0 : scores.front() + 1e-9,
+                                                    min_margin, confident_score)};
+  for (double s : scores)
+    curve.push_back(scene_point(rows, known, unknown, s, min_margin, confident_score));
   return curve;
 }
 

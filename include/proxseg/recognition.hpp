@@ -37,6 +37,10 @@ struct RecognitionParams {
   // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
   // well, as happens for an object the database does not hold, which several models fit a bit.
   double min_margin = 0.15;
+  // At or above this best score the margin is not asked for: a model that explains this much of
+  // the candidate and of its own visible surface names it even when a look-alike comes close
+  // (the YCB-Video gelatin box, 0.89, against the pudding box, 0.76, by shape alone).
+  double confident_score = 0.8;
   // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp),
   // with the nearest view of a second object when they all show one, so that there is a
   // runner-up [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
@@ -44,9 +48,10 @@ struct RecognitionParams {
   // Views aligned per split or merge trial of recognize_scene(), among the views of the objects
   // the trial concerns (nearest by signature); 0 = all of those objects' views.
   int trial_shortlist = 4;
-  // > 0: stop after the first batch of views (8 at a time, in database order) in which some
-  // view reached this score. Faster; may change the answer (a later view could score higher).
-  double early_exit = 0;
+  // > 0: stop after the first batch of views (8 at a time, nearest by signature first) in which
+  // some view reached this score. Faster; may change the answer (a later view could score
+  // higher). 0 = align every shortlisted view.
+  double early_exit = 0.8;
   // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
   // that names a candidate also tells which of its points belong to it.
   // Split: a named candidate whose best fitness is under split_fitness is cut into the points
@@ -71,7 +76,8 @@ struct Match {
 };
 
 struct Recognition {
-  std::string name;  // best.object, or "unknown" (under min_score or min_margin)
+  std::string
+      name;  // best.object, or "unknown" (under min_score, or min_margin when not confident)
   Match best;
   Match runner_up;                    // the best view of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
@@ -106,7 +112,8 @@ struct SceneObject {
 
 // Algorithm 3 over every candidate of a selection (background excluded), then the split and
 // merge passes of RecognitionParams. `progress` is called after each recognition with the
-// object just recognised. Objects come in order of their smallest point index.
+// object just recognised (the candidates' in any order: they run in parallel; one call at a
+// time). Objects come in order of their smallest point index.
 std::vector<SceneObject> recognize_scene(
     const Frame& frame, const Selection& selection, const Database& db,
     const RecognitionParams& params, const std::function<void(const SceneObject&)>& progress = {});

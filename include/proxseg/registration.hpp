@@ -32,13 +32,13 @@ struct RegistrationParams {
   double ransac_distance = 0.01;     // inlier distance of a correspondence under a hypothesis
   double edge_similarity = 0.9;      // sample pre-rejection: edge-length ratio between the clouds
   double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
-  int ransac_candidates = 60;        // best distinct hypotheses re-judged by their true overlap
+  int ransac_candidates = 30;        // best distinct hypotheses re-judged by their true overlap
   bool mutual_filter = false;        // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
   int max_points = 400;
   int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
-  int icp_starts = 5;              // ICP runs from the best this many RANSAC hypotheses
+  int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
   double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
   bool point_to_plane = false;     // the paper's ICP is point-to-point
   double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
