@@ -58,6 +58,7 @@ struct Options {
   int scenes = 0;
   std::uint32_t first_seed = 1;
   int views = 8, threads = 0;
+  int peer_ransac = 10000;
   bool json = false;
 };
 
@@ -324,9 +325,12 @@ int run(const Options& o) {
                            proxseg::recognize_scene(f, s.selection, db, rp));
                      }});
   proxseg::peers::Open3dParams o3d;
-  o3d.ransac_iterations = 100000;  // as rec_bench: its 4M default costs 2.5x, no gain
+  // rec_bench gives Open3D 100k iterations (its 4M default costs 2.5x, no gain); against 96
+  // views for each of ~12 clusters that is ~100 s per scene here, so the scenes default to 10k.
+  o3d.ransac_iterations = o.peer_ransac;
   std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
-  const std::string peer_label = "PCL Euclidean + Open3D RANSAC 100k + ICP";
+  const std::string peer_label = "PCL Euclidean + Open3D RANSAC " +
+                                 std::to_string(o.peer_ransac / 1000) + "k + ICP";
   if (o.peers == "all") {
     open3d = std::make_unique<proxseg::peers::Open3dPeer>(db, o3d, o.threads);
     methods.push_back({peer_label, [&](const proxseg::Frame& f) {
@@ -431,11 +435,16 @@ int run(const Options& o) {
      << o.views << " noiseless render_views() per known object (" << db.views.size()
      << " views). proxseg: segment() with "
      << (o.config.empty() ? "default parameters" : "the config's parameters")
-     << " + recognize_scene() (min score " << fmt(rp.min_score, 2) << ", split and merge on). "
+     << " + recognize_scene() (min score " << fmt(rp.min_score, 2) << ", min margin "
+     << fmt(rp.min_margin, 2) << " unless the score reaches " << fmt(rp.confident_score, 2)
+     << ", shortlist " << rp.shortlist << " views, split and merge on). "
      << "Peer: PCL plane + Euclidean clusters (seg_bench's \"PCL plane + Euclidean\") as "
-        "candidates, each described like proxseg's and aligned to every view by Open3D RANSAC "
-        "100k + ICP (rec_bench's peer); its poses are scored and the candidate named exactly as "
-        "proxseg names (same score, same min score).\n\n"
+        "candidates, each described like proxseg's (with its colours) and aligned to every view "
+        "by Open3D RANSAC "
+     << o.peer_ransac / 1000
+     << "k + ICP (rec_bench's peer, 100k there; fewer here, as every cluster meets all 96 "
+        "views); its poses are scored and the candidate named exactly as proxseg names (same "
+        "score, same min score, margin and confident score).\n\n"
      << "Measures (docs/metrics.md, \"Scenes\"): truth objects and predictions are matched by "
         "the assignment of largest total point IoU among pairs with IoU >= 0.5; detection = "
         "matched truths / truths. TP: a known truth whose match carries its name; FN: the other "
@@ -635,6 +644,9 @@ int main(int argc, char** argv) {
                  "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults (as "
                  "proxseg recognize --config)");
   app.add_option("--peers", o.peers, "all (PCL Euclidean + Open3D) or none")->capture_default_str();
+  app.add_option("--peer-ransac", o.peer_ransac, "Open3D RANSAC iterations of the peer per view")
+      ->check(CLI::Range(1000, 10000000))
+      ->capture_default_str();
   app.add_flag("--json", o.json, "Print scenes.json on stdout");
   try {
     app.parse(argc, argv);
