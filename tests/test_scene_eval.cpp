@@ -229,3 +229,21 @@ TEST(SceneEval, CurveRethresholdsTheAnswers) {
   EXPECT_DOUBLE_EQ(best.min_score, 0.9);
   EXPECT_NEAR(best.f1, 2.0 / 3, 1e-12);
 }
+
+TEST(SceneEval, CurveKeepsTheMarginRule) {
+  const Case c;
+  SceneEvaluation e = evaluate_scene(1, c.truths, c.predictions, c.catalogue);
+  // Every answer has a runner-up 0.1 behind it: a margin of 0.15 leaves all "unknown" ...
+  for (PredictionRow& r : e.rows) r.runner_up = r.score - 0.1;
+  const SceneCurvePoint strict = scene_point(e.rows, 2, 2, 0.2, 0.15);
+  EXPECT_EQ(strict.tp + strict.fp, 0);
+  // ... unless the score reaches the confident score (the duck's 0.9 and the 0.7 answer).
+  const SceneCurvePoint confident = scene_point(e.rows, 2, 2, 0.2, 0.15, 0.7);
+  EXPECT_EQ(confident.tp, 1);
+  EXPECT_EQ(confident.tp + confident.fp, 2);
+  // A margin the runner-ups leave: the same as without one.
+  const SceneCurvePoint loose = scene_point(e.rows, 2, 2, 0.2, 0.05);
+  const SceneCurvePoint none = scene_point(e.rows, 2, 2, 0.2);
+  EXPECT_EQ(loose.tp, none.tp);
+  EXPECT_EQ(loose.fp, none.fp);
+}
