@@ -9,7 +9,7 @@
 #                   generated clutter set (60 scenes in $(BUILD)/clutter, made when missing)
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
-#                   Open3D and PCL peers
+#                   Open3D (RANSAC, FGR), PCL and OpenCV PPF peers
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
@@ -59,7 +59,8 @@ fuzz:
 	@bash scripts/install-deps.sh --fuzz
 	@FUZZ_TIME=$(FUZZ_TIME) DATA=$(DATA) bash scripts/fuzz.sh
 
-# Benchmarks need PCL (the peers); it is installed here, never for the library or the tests.
+# Benchmarks need PCL and OpenCV contrib (the peers); installed here, never for the library or
+# the tests.
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
