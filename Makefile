@@ -9,7 +9,7 @@
 #                   generated clutter set (60 scenes in $(BUILD)/clutter, made when missing)
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
-#                   Open3D and PCL peers
+#                   Open3D (RANSAC, FGR), PCL and OpenCV PPF peers
 #   make bench-scenes  only the scene benchmark: segmentation + recognition end to end on
 #                   generated tabletops with known, look-alike and unknown objects (dev and
 #                   report splits), proxseg vs PCL Euclidean clusters + Open3D
@@ -62,7 +62,8 @@ fuzz:
 	@bash scripts/install-deps.sh --fuzz
 	@FUZZ_TIME=$(FUZZ_TIME) DATA=$(DATA) bash scripts/fuzz.sh
 
-# Benchmarks need PCL (the peers); it is installed here, never for the library or the tests.
+# Benchmarks need PCL and OpenCV contrib (the peers); installed here, never for the library or
+# the tests.
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 

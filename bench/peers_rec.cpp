@@ -1,4 +1,5 @@
-// The recognition peers of bench/peers_rec.hpp: Open3D and PCL registration on proxseg's clouds.
+// The recognition peers of bench/peers_rec.hpp: Open3D (RANSAC, FGR) and PCL registration on
+// proxseg's clouds. The PPF peer (OpenCV contrib) is in bench/peers_ppf.cpp.
 // GCC 12 reports a false -Warray-bounds inside Eigen::umeyama<float> (a 3-vector stored into a
 // 4x4 block with a 4-wide packet load), instantiated here by PCL's TransformationEstimationSVD.
 #pragma GCC diagnostic ignored "-Warray-bounds"
@@ -9,6 +10,7 @@
 
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/pipelines/registration/CorrespondenceChecker.h>
+#include <open3d/pipelines/registration/FastGlobalRegistration.h>
 #include <open3d/pipelines/registration/Feature.h>
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/pipelines/registration/TransformationEstimation.h>
@@ -116,6 +118,58 @@ std::vector<PeerAlignment> Open3dPeer::align(const Cloud& candidate, int seed) c
     out[v].found = coarse.fitness_ > 0;
     out[v].pose = coarse.transformation_;
     if (!out[v].found) continue;
+    t0 = Clock::now();
+    const o3reg::RegistrationResult fine =
+        o3reg::RegistrationICP(source.points, target.points, p.icp_distance, coarse.transformation_,
+                               o3reg::TransformationEstimationPointToPoint(false),
+                               o3reg::ICPConvergenceCriteria(1e-6, 1e-6, p.icp_iterations));
+    out[v].icp_ms = ms_since(t0);
+    out[v].pose = fine.transformation_;
+  }
+  return out;
+}
+
+// --- Open3D FGR ---------------------------------------------------------------------------------
+
+struct FgrPeer::Impl {
+  FgrParams params;
+  int threads = 0;
+  std::vector<Open3dCloud> views;
+};
+
+FgrPeer::FgrPeer(const Database& db, const FgrParams& params, int threads)
+    : impl_(std::make_unique<Impl>()) {
+  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
+  impl_->params = params;
+  impl_->threads = threads > 0 ? threads : omp_get_max_threads();
+  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud));
+}
+
+FgrPeer::~FgrPeer() = default;
+
+std::vector<PeerAlignment> FgrPeer::align(const Cloud& candidate, int seed) const {
+  const FgrParams& p = impl_->params;
+  open3d::utility::random::Seed(seed);
+  const Open3dCloud target = to_open3d(candidate);
+  const o3reg::FastGlobalRegistrationOption option(p.division_factor, false, true,
+                                                   p.max_correspondence_distance, p.iterations,
+                                                   p.tuple_scale, p.max_tuples);
+  const int n = static_cast<int>(impl_->views.size());
+  std::vector<PeerAlignment> out(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(impl_->threads)
+  for (int v = 0; v < n; ++v) {
+    const Open3dCloud& source = impl_->views[v];
+    auto t0 = Clock::now();
+    o3reg::RegistrationResult coarse;
+    // Open3D 0.16's feature matching is an orphaned `omp for`: inside this loop it would bind to
+    // this team and match only this thread's share of the points. A team of one gives it all.
+#pragma omp parallel num_threads(1)
+    coarse = o3reg::FastGlobalRegistrationBasedOnFeatureMatching(
+        source.points, target.points, source.features, target.features, option);
+    out[v].ransac_ms = ms_since(t0);
+    // FGR always returns a pose (with fewer than 10 matches, the one that aligns the centroids);
+    // ICP starts from it and the score judges the result.
+    out[v].found = true;
     t0 = Clock::now();
     const o3reg::RegistrationResult fine =
         o3reg::RegistrationICP(source.points, target.points, p.icp_distance, coarse.transformation_,

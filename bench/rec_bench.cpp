@@ -2,7 +2,8 @@
 // meshes (BOP LINEMOD by default): a model database rendered from fixed viewpoints, a seeded test
 // set from other viewpoints with Kinect-like noise, the same set through the paper's occlusion
 // generator, sweeps of the database size, FPFH radii and RANSAC / ICP iterations, and the peers
-// (Open3D RANSAC + ICP, PCL SAC-prerejective + ICP; built when PCL is) on the same test views.
+// (Open3D RANSAC + ICP, PCL SAC-prerejective + ICP, OpenCV PPF + ICP, Open3D FGR + ICP; built
+// when PCL is, PPF when OpenCV contrib is too) on the same test views.
 // Writes OUT/summary.md, summary.json, tests.csv, curves.csv and, with gnuplot, roc.png and
 // pr.png (docs/metrics.md, "Recognition"). Exit codes: 0 ok, 1 bad input, 2 usage.
 // Usage: rec_bench --models DIR -o OUT [--units mm|m] [--views N] [--tests N]
@@ -80,7 +81,7 @@ void add_options(CLI::App* cmd, Options& o) {
       ->capture_default_str();
   cmd->add_flag("--no-sweep", o.no_sweep, "Skip the sweeps");
   cmd->add_option("--peers", o.peers,
-                  "Peers to run: all (those built), none, or a list of open3d,pcl")
+                  "Peers to run: all (those built), none, or a list of open3d,pcl,ppf,fgr")
       ->capture_default_str();
   cmd->add_option("--peer-tests", o.peer_tests,
                   "Tests the peers run, of each set (clean and occluded)")
@@ -155,6 +156,7 @@ struct Row {
   int paper = -1;           // the paper's analogue: index into kPaperTable2, -1 = none
   int views = 0, ransac = 0, icp = 0;
   std::vector<double> radii;
+  double train_ms = 0;  // a peer's one-off preparation of the database (PPF's training), untimed
   std::function<Answer(const TestView&)> run;
   int clean_tests = 0, occluded_tests = 0;
   std::vector<Answer> clean, occluded;
@@ -235,10 +237,16 @@ std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
 }
 #endif
 
+// The peers in the order of their rows (and of --peers all).
+constexpr const char* kPeerNames[] = {"open3d", "pcl", "ppf", "fgr"};
+
 std::vector<std::string> peer_list(const std::string& spec) {
   std::vector<std::string> available;
 #ifdef PROXSEG_WITH_PEERS
-  available = {"open3d", "pcl"};
+  available = {"open3d", "pcl", "fgr"};
+#ifdef PROXSEG_WITH_PPF
+  available.insert(available.begin() + 2, "ppf");
+#endif
 #endif
   if (spec == "none") return {};
   if (spec == "all") return available;
@@ -246,13 +254,15 @@ std::vector<std::string> peer_list(const std::string& spec) {
   std::stringstream in(spec);
   std::string name;
   while (std::getline(in, name, ',')) {
-    if (name != "open3d" && name != "pcl")
-      throw CLI::ValidationError("--peers: unknown peer '" + name + "' (expected open3d, pcl)");
+    if (std::find(std::begin(kPeerNames), std::end(kPeerNames), name) == std::end(kPeerNames))
+      throw CLI::ValidationError("--peers: unknown peer '" + name +
+                                 "' (expected open3d, pcl, ppf, fgr)");
     if (std::find(available.begin(), available.end(), name) == available.end())
       throw CLI::ValidationError(
-          "--peers: this build has no peers (PCL was not found when it was built: run "
+          "--peers: this build has no peer '" + name +
+          "' (PCL, or OpenCV contrib for ppf, was not found when it was built: run "
           "scripts/install-deps.sh --bench, then rebuild)");
-    out.push_back(name);
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }
   return out;
 }
@@ -430,6 +440,12 @@ int run(const Options& o) {
   std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
   std::unique_ptr<proxseg::peers::PclPeer> pcl;
   const proxseg::peers::PclParams pcl_params;
+  std::unique_ptr<proxseg::peers::FgrPeer> fgr;
+  const proxseg::peers::FgrParams fgr_params;
+#ifdef PROXSEG_WITH_PPF
+  std::unique_ptr<proxseg::peers::PpfPeer> ppf;
+  const proxseg::peers::PpfParams ppf_params;
+#endif
   for (const std::string& peer : peers) {
     Row r;
     r.kind = "peer";
@@ -441,13 +457,29 @@ int run(const Options& o) {
       r.ransac = o3d.ransac_iterations;
       r.icp = o3d.icp_iterations;
       r.run = peer_recogniser(*open3d, db, rp, team);
-    } else {
+    } else if (peer == "pcl") {
       pcl = std::make_unique<proxseg::peers::PclPeer>(db, pcl_params, o.threads);
       r.label = "PCL SAC-prerejective 50k + ICP";
       r.radii.resize(1);  // its point type holds one histogram
       r.ransac = pcl_params.ransac_iterations;
       r.icp = pcl_params.icp_iterations;
       r.run = peer_recogniser(*pcl, db, rp, team);
+    } else if (peer == "fgr") {
+      fgr = std::make_unique<proxseg::peers::FgrPeer>(db, fgr_params, o.threads);
+      r.label = "Open3D FGR + ICP";
+      r.icp = fgr_params.icp_iterations;  // no RANSAC
+      r.run = peer_recogniser(*fgr, db, rp, team);
+    } else {
+#ifdef PROXSEG_WITH_PPF
+      ppf = std::make_unique<proxseg::peers::PpfPeer>(db, ppf_params, o.threads);
+      r.label = "OpenCV PPF + ICP";
+      r.radii.clear();  // point pair features, no FPFH
+      r.icp = ppf_params.icp_iterations;
+      r.train_ms = ppf->train_ms();
+      std::cerr << "rec_bench: OpenCV PPF detectors of " << db.views.size() << " views trained in "
+                << fmt(r.train_ms / 1000, 2) << " s\n";
+      r.run = peer_recogniser(*ppf, db, rp, team);
+#endif
     }
     r.clean_tests = std::min<int>(o.peer_tests, clean.size());
     r.occluded_tests = std::min<int>(o.peer_tests, occluded.size());
@@ -528,6 +560,7 @@ int run(const Options& o) {
                         {"fpfh_radii", r.radii},
                         {"ransac_iterations", r.ransac},
                         {"icp_iterations", r.icp},
+                        {"train_ms", r.train_ms},
                         {"paper_analogue", r.paper < 0 ? "" : kPaperTable2[r.paper].name}};
     j["sets"]["clean"] = rates_json(proxseg::rates(c, r.clean, objects, m));
     double stage[4] = {0, 0, 0, 0};
@@ -684,7 +717,13 @@ int run(const Options& o) {
        << " occluded ones)\n\n"
        << "Each peer aligns every database view with its own registration; its poses are scored "
           "and the test named exactly as proxseg does (same score, minimum and database), so "
-          "the rows differ only in registration.\n\n"
+          "the rows differ only in registration.";
+    for (const Row& r : rows)
+      if (r.train_ms > 0)
+        md << " " << r.label << " trains one detector per database view, once before the first "
+           << "test (not in ms / view): " << fmt(r.train_ms / 1000, 1) << " s for the "
+           << db.views.size() << " views.";
+    md << "\n\n"
        << "| method | TP (%) | FP (%) | pose ok (%) | ms / view | occluded: TP (%) | FP (%) | "
           "pose ok (%) | ms / view |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
@@ -705,7 +744,8 @@ int run(const Options& o) {
       if (r.kind != "sweep") n = std::min(n, r.clean.size());
     md << "### Stage times (ms per test view, mean over the first " << n << " clean test views)\n\n"
        << "Describe: voxel filter, normals and FPFH of the test view (wall). RANSAC (with the "
-          "feature correspondences), ICP and scoring: summed over the "
+          "feature correspondences; for FGR its matching and optimisation, for PPF the voting and "
+          "pose clustering), ICP and scoring: summed over the "
        << db.views.size() << " database views, which run on " << team
        << " threads, so the sums exceed the wall time.\n\n"
        << "| method | describe | RANSAC | ICP | scoring | wall |\n|---|---|---|---|---|---|\n";

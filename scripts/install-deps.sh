@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # Installs proxseg's build dependencies from Debian 12's packages, only those that are missing.
 # Works as root without a TTY (CI); uses sudo when run as a normal user.
-# Usage: scripts/install-deps.sh [--bench|--fuzz]   (--bench adds PCL, the benchmarks' peers, and
-# gnuplot, which draws the recognition benchmark's ROC and precision-recall curves; --fuzz adds
-# clang and its runtimes for libFuzzer, `make fuzz`)
+# Usage: scripts/install-deps.sh [--bench|--fuzz]   (--bench adds PCL and OpenCV's contrib modules,
+# the benchmarks' peers (surface_matching: the PPF recognition peer), and gnuplot, which draws the
+# recognition benchmark's ROC and precision-recall curves; --fuzz adds clang and its runtimes for
+# libFuzzer, `make fuzz`)
 set -euo pipefail
 
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev)
 if [ "${1:-}" = "--bench" ]; then
-  packages+=(libpcl-dev gnuplot-nox)
+  packages+=(libpcl-dev libopencv-contrib-dev gnuplot-nox)
 fi
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang-14 libclang-rt-14-dev libomp-14-dev)
