@@ -13,13 +13,15 @@
 #   make bench-scenes  only the scene benchmark: segmentation + recognition end to end on
 #                   generated tabletops with known, look-alike and unknown objects (dev and
 #                   report splits), proxseg vs PCL Euclidean clusters + Open3D
+#   make bench-dbscale  only the database-size benchmark: recognition cost and accuracy with
+#                   64-512 views (LINEMOD + distractors), shortlist against every view
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem bench-scenes format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale format clean
 
 all: build
 
@@ -67,7 +69,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec bench-mem bench-scenes
+bench: bench-seg bench-rec bench-mem bench-scenes bench-dbscale
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
@@ -112,6 +114,16 @@ bench-scenes: deps-bench configure
 	@$(BUILD)/bench/scene_bench --models $(DATA)/lmo/models -o $(SCENES_OUT)
 	@bash scripts/update-results.sh docs/results.md scenes $(SCENES_OUT)/scenes.md
 	@echo "docs/results.md (scenes) regenerated; per-prediction and per-object CSV in $(SCENES_OUT)/"
+
+# Recognition against database size (db_scale_bench): 64, 128, 256 and 512 views, 200 tests with
+# the default shortlist and 40 aligning every view: about 15 min on 2 shared cores. Needs no PCL.
+DBSCALE_OUT = $(BUILD)/bench-out/dbscale
+bench-dbscale: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target db_scale_bench
+	@$(BUILD)/bench/db_scale_bench --models $(DATA)/lmo/models --sizes 64,128,256,512 --tests 200 \
+	  --all-tests 40 --seed 1 -o $(DBSCALE_OUT)
+	@bash scripts/update-results.sh docs/results.md dbscale $(DBSCALE_OUT)/dbscale.md
+	@echo "docs/results.md (dbscale) regenerated; every object and row in $(DBSCALE_OUT)/dbscale.json"
 
 format:
 	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp

@@ -145,8 +145,12 @@ std::vector<TestView> make_test_views(const std::vector<TestObject>& objects,
     rp.disparity_step = params.disparity_step;
     rp.seed = static_cast<std::uint32_t>(rng.next());
     const Frame image = render({o.mesh}, rp);
+    const bool coloured = image.rgb.size() == image.size();
     for (std::size_t i = 0; i < image.size(); ++i)
-      if (image.valid(i)) t.points.push_back(image.xyz[i].cast<double>());
+      if (image.valid(i)) {
+        t.points.push_back(image.xyz[i].cast<double>());
+        if (coloured) t.colours.push_back(image.rgb[i]);
+      }
     t.rendered_points = static_cast<int>(t.points.size());
     t.truth = rp.camera_from_world.matrix();  // the mesh is in the model frame = world frame
   }
@@ -184,6 +188,11 @@ std::vector<TestView> occluded_test_views(const std::vector<TestView>& clean, in
       if (o.removed_share < bins[b].lo || o.removed_share >= bins[b].hi) continue;
       out[i] = t;
       out[i].points = std::move(o.points);
+      // The colours of the points occlude() kept: the same test, point by point.
+      out[i].colours.clear();
+      if (t.colours.size() == t.points.size())
+        for (std::size_t p = 0; p < t.points.size(); ++p)
+          if ((t.points[p] - o.centre).norm() > o.radius) out[i].colours.push_back(t.colours[p]);
       out[i].bin = b;
       out[i].occlusion = o.removed_share;
       found[i] = 1;

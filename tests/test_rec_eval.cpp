@@ -56,6 +56,8 @@ TEST(RecEval, TestViewsAreSeededFarFromTheDatabaseViewpointsAndKinectLike) {
     EXPECT_LE(t.distance, p.max_distance);
     EXPECT_GE(t.nearest_view_deg, p.min_angle_to_view_deg);
     EXPECT_GT(t.points.size(), 100u) << k;
+    // The LINEMOD meshes have vertex colours: one rendered colour per point.
+    EXPECT_EQ(t.colours.size(), t.points.size()) << k;
     distances.insert(t.distance);
     // Same seed, same test, point for point.
     ASSERT_EQ(t.points.size(), b[k].points.size());
@@ -98,6 +100,13 @@ TEST(RecEval, OccludedTestsFillThePaperBinsEvenly) {
     EXPECT_LT(t.occlusion, bins[t.bin].hi);
     const auto& source = clean[t.index];
     EXPECT_NEAR(1.0 - double(t.points.size()) / source.points.size(), t.occlusion, 1e-12);
+    // The kept points keep their colours, in order: the first kept point is some source point.
+    ASSERT_EQ(t.colours.size(), t.points.size());
+    for (std::size_t p = 0; p < source.points.size(); ++p)
+      if (source.points[p] == t.points.front()) {
+        EXPECT_EQ(source.colours[p], t.colours.front());
+        break;
+      }
     EXPECT_EQ(t.object, source.object);
   }
   for (int n : per_bin) EXPECT_EQ(n, 6);

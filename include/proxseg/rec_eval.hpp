@@ -54,6 +54,9 @@ struct TestView {
   double distance = 0, nearest_view_deg = 0;
   Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();  // camera <- model
   std::vector<Eigen::Vector3d> points;
+  // The rendered colour of each point (the mesh's vertex colours; one per point), so that a
+  // recogniser can be given them (describe_candidate(points, db, &colours)).
+  std::vector<Rgb> colours;
   int bin = -1;             // occlusion bin (index into the bins), -1 = not occluded
   double occlusion = 0;     // share of the view's points removed
   int rendered_points = 0;  // before occlusion
