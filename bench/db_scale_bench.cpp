@@ -675,7 +675,7 @@ int run(const Options& o) {
         "with the default RecognitionParams (shortlist "
      << rp.shortlist << ", min_score " << fmt(m, 2) << ", min_margin " << fmt(rp.min_margin, 2)
      << "); the shortlist 0 rows align every view (the paper's way) on the first " << all_tests
-     << " tests only (they cost about views x 8 ms). TP: recognize() names the object; FP: it "
+     << " tests only (their cost grows with the views). TP: recognize() names the object; FP: it "
         "names another; unknown: it answers \"unknown\" (min_score or min_margin); pose ok: "
         "named right and within 2 cm and 10 degrees. Best view right: the best view's object "
         "before the thresholds. Shortlisted: a view of the right object was among the views "
