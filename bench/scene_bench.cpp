@@ -329,8 +329,8 @@ int run(const Options& o) {
   // views for each of ~12 clusters that is ~100 s per scene here, so the scenes default to 10k.
   o3d.ransac_iterations = o.peer_ransac;
   std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
-  const std::string peer_label = "PCL Euclidean + Open3D RANSAC " +
-                                 std::to_string(o.peer_ransac / 1000) + "k + ICP";
+  const std::string peer_label =
+      "PCL Euclidean + Open3D RANSAC " + std::to_string(o.peer_ransac / 1000) + "k + ICP";
   if (o.peers == "all") {
     open3d = std::make_unique<proxseg::peers::Open3dPeer>(db, o3d, o.threads);
     methods.push_back({peer_label, [&](const proxseg::Frame& f) {
