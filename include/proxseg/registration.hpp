@@ -32,7 +32,7 @@ struct RegistrationParams {
   double ransac_distance = 0.01;     // inlier distance of a correspondence under a hypothesis
   double edge_similarity = 0.9;      // sample pre-rejection: edge-length ratio between the clouds
   double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
-  int ransac_candidates = 30;        // best distinct hypotheses re-judged by their true overlap
+  int ransac_candidates = 60;        // best distinct hypotheses re-judged by their true overlap
   bool mutual_filter = false;        // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
