@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 using namespace cli_test;
 const fs::path kTmp = fs::path(PROXSEG_TEST_TMP) / "scene_bench";
-const std::string kPeer = "PCL Euclidean + Open3D RANSAC 100k + ICP";
+const std::string kPeer = "PCL Euclidean + Open3D RANSAC 10k + ICP";
 CliRun run(const std::string& args) {
   return run_in(kTmp, args, PROXSEG_SCENE_BENCH);
 }
