@@ -12,6 +12,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <numeric>
 
 namespace proxseg {
 namespace {
@@ -230,11 +231,18 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
   std::vector<const Candidate*> candidates;
   for (const Candidate& c : selection.components)
     if (!c.background) candidates.push_back(&c);
+  // Largest first, so that the last one to finish is a small one and no core waits long.
+  std::vector<int> by_size(candidates.size());
+  std::iota(by_size.begin(), by_size.end(), 0);
+  std::stable_sort(by_size.begin(), by_size.end(), [&](int a, int b) {
+    return candidates[a]->points.size() > candidates[b]->points.size();
+  });
   std::vector<Piece> first(candidates.size());
   std::vector<char> made(candidates.size(), 0);
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
+  for (int i = 0; i < static_cast<int>(by_size.size()); ++i) {
+    const int k = by_size[i];
     const Candidate& c = *candidates[k];
     made[k] = recognise({c.points, {c.instance}, SceneObject::Origin::kCandidate, {}}, first[k]);
   }

@@ -36,7 +36,7 @@ struct RegistrationParams {
   bool mutual_filter = false;        // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
-  int max_points = 400;
+  int max_points = 300;
   int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
   int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
   double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
