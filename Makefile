@@ -3,6 +3,7 @@
 #               (and a real mOSD scene when ../shared/data is present)
 #   make test   install what is missing, build, run every test (ctest)
 #   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+#   make package  a Debian package (.deb) of the library, headers, CLI and CMake/pkg-config files
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
@@ -21,7 +22,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale format clean
 
 all: build
 
@@ -46,14 +47,21 @@ demo: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# A Debian package of the library, headers, CLI, CMake package and proxseg.pc (CPack):
+# $(BUILD)/proxseg_<version>_<arch>.deb, installable with `apt install ./$(BUILD)/proxseg_*.deb`.
+package: build
+	@cd $(BUILD) && cpack -G DEB >/dev/null
+	@ls -1 $(BUILD)/proxseg_*.deb
+
 # The whole suite under ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails
-# the test it happens in. Its own build tree, without the benchmarks.
+# the test it happens in. Its own build tree, without the benchmarks, with a static library (the
+# install test, which needs the shared one, runs in `make test`).
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS = -O2 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
 test-sanitize: deps
 	@cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" \
 	  -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
-	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
+	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_SHARED=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
 	@cmake --build $(SAN_BUILD) -j $(JOBS)
 	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)

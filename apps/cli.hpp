@@ -1,8 +1,9 @@
-// Pieces shared by the commands of the proxseg CLI (apps/proxseg.cpp, apps/db.cpp,
-// apps/recognize.cpp).
+// The commands of the proxseg CLI, one file each (segment.cpp, synth.cpp, eval.cpp, db.cpp,
+// recognize.cpp; proxseg.cpp dispatches), and the pieces they share (cli.cpp).
 #pragma once
 #include <proxseg/frame.hpp>
 #include <proxseg/pipeline.hpp>
+#include <proxseg/render.hpp>
 
 #include <CLI/CLI.hpp>
 #include <optional>
@@ -45,6 +46,36 @@ constexpr int kInterruptedExit = 130;
 // Resident memory of this process now, and its peak so far, in MiB (Linux /proc, getrusage).
 double rss_mib();
 double peak_rss_mib();
+
+// `proxseg segment`
+struct SegmentCommand : SegmentOptions {
+  std::string output, config, candidates_dir, batch;
+  bool json = false;
+};
+void add_segment(CLI::App& app, SegmentCommand& o);
+int run_segment(const SegmentCommand& o);
+
+// `proxseg synth`
+struct SynthOptions {
+  std::string output;
+  unsigned seed = 1;
+  double noise = proxseg::SynthParams{}.depth_noise;
+  bool clutter = false;  // --clutter: proxseg::clutter_scene (docs/clutter.md)
+  unsigned count = 0, first_seed = 1;
+  std::string models;
+};
+void add_synth(CLI::App& app, SynthOptions& o);
+int run_synth(const SynthOptions& o);
+
+// `proxseg eval-seg`
+struct EvalOptions {
+  std::string truth, predicted, field, batch, pred_dir, output, config;
+  std::string preset = "default";
+  std::optional<int> threads;
+  bool json = false;
+};
+void add_eval(CLI::App& app, EvalOptions& o);
+int run_eval(const EvalOptions& o);
 
 // `proxseg db add|render|info`
 struct DbOptions {

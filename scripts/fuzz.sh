@@ -19,7 +19,7 @@ flags="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefine
 cmake -S . -B "$FUZZ_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 \
   -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="" -DPROXSEG_FUZZ=ON -DPROXSEG_BUILD_TESTS=OFF \
-  -DPROXSEG_BUILD_BENCH=OFF >/dev/null
+  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_SHARED=OFF >/dev/null
 cmake --build "$FUZZ_BUILD" -j "$(nproc)" --target make_seeds $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 export ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1

@@ -7,8 +7,9 @@
 # libFuzzer, `make fuzz`)
 set -euo pipefail
 
+# dpkg-dev: dpkg-shlibdeps, which `make package` uses to declare the .deb's dependencies.
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
-  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev)
+  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev dpkg-dev)
 if [ "${1:-}" = "--bench" ]; then
   packages+=(libpcl-dev libopencv-contrib-dev gnuplot-nox)
 fi

@@ -192,16 +192,18 @@ double score(const Piece& p) {
   return p.object.recognition.best.score;
 }
 
-}  // namespace
+// Recognises one piece of the scene: describes its points (or takes the caller's cloud: a
+// merge trial's joined parts) and aligns it to the database views, of `objects` only when
+// given (then the trial shortlist). Pieces too small for a description (under 10 voxels) stay
+// unrecognised: false, and `out` is not made.
+struct PieceRecogniser {
+  const Frame& frame;
+  const Database& db;
+  const RecognitionParams& params;
+  const std::function<void(const SceneObject&)>& progress;
 
-std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& selection,
-                                         const Database& db, const RecognitionParams& params,
-                                         const std::function<void(const SceneObject&)>& progress) {
-  // Pieces too small for a description (under 10 voxels) stay unrecognised and are not made.
-  // objects: the database objects to try (all when empty).
-  // described: the piece's cloud when the caller has it (a merge trial's joined parts).
-  auto recognise = [&](SceneObject o, Piece& out, const std::vector<std::string>& objects = {},
-                       Cloud* described = nullptr) {
+  bool operator()(SceneObject o, Piece& out, const std::vector<std::string>& objects = {},
+                  Cloud* described = nullptr) const {
     const detail::Stopwatch describe_watch;
     try {
       const std::vector<Rgb> rgb = rgb_of(frame, o.points);
@@ -218,20 +220,24 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);
     out.box.setEmpty();
-    for (const auto& p : out.cloud.points) out.box.extend(p);
+    for (const auto& q : out.cloud.points) out.box.extend(q);
     if (progress) {
 #pragma omp critical(proxseg_recognise_progress)
       progress(out.object);
     }
     return true;
-  };
+  }
+};
 
-  // The candidates are independent: one per thread (each one's views then run on that thread),
-  // which keeps both cores busy better than the views of one candidate in batches.
+// The selection's candidates, each recognised on its own, in the selection's order. They are
+// independent: one per thread (each one's views then run on that thread), which keeps both
+// cores busy better than the views of one candidate in batches; largest first, so that the last
+// one to finish is a small one and no core waits long.
+std::vector<Piece> recognise_candidates(const Selection& selection,
+                                        const PieceRecogniser& recognise) {
   std::vector<const Candidate*> candidates;
   for (const Candidate& c : selection.components)
     if (!c.background) candidates.push_back(&c);
-  // Largest first, so that the last one to finish is a small one and no core waits long.
   std::vector<int> by_size(candidates.size());
   std::iota(by_size.begin(), by_size.end(), 0);
   std::stable_sort(by_size.begin(), by_size.end(), [&](int a, int b) {
@@ -239,7 +245,8 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
   });
   std::vector<Piece> first(candidates.size());
   std::vector<char> made(candidates.size(), 0);
-  const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  const int threads =
+      recognise.params.threads > 0 ? recognise.params.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int i = 0; i < static_cast<int>(by_size.size()); ++i) {
     const int k = by_size[i];
@@ -249,91 +256,109 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
   std::vector<Piece> pieces;
   for (std::size_t k = 0; k < first.size(); ++k)
     if (made[k]) pieces.push_back(std::move(first[k]));
+  return pieces;
+}
 
-  // Split: the model that names a candidate with a poor fitness keeps the points it explains;
-  // the rest is recognised on its own (and may be split again). Both parts must be named, so an
-  // object is not cut into itself and its fringe of noise. The explained part is tried against
-  // its model's object only: that is what it is being checked for.
+// Split: the model that names a piece with a poor fitness keeps the points it explains; the
+// rest is recognised on its own (and may be split again). Both parts must be named, so an
+// object is not cut into itself and its fringe of noise. The explained part is tried against
+// its model's object only: that is what it is being checked for.
+std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecogniser& recognise) {
+  const RecognitionParams& params = recognise.params;
   const std::size_t min_part = static_cast<std::size_t>(params.min_part_points);
-  if (params.split_fitness > 0) {
-    std::deque<Piece> queue(std::make_move_iterator(pieces.begin()),
-                            std::make_move_iterator(pieces.end()));
-    pieces.clear();
-    while (!queue.empty()) {
-      Piece w = std::move(queue.front());
-      queue.pop_front();
-      const Recognition& r = w.object.recognition;
-      bool split = false;
-      if (named(w) && r.best.fitness < params.split_fitness &&
-          w.object.points.size() >= 2 * min_part) {
-        const std::vector<char> in =
-            explained(xyz_of(frame, w.object.points), db.views[r.best.view].cloud, r.best.pose,
-                      params.registration.fitness_distance);
-        SceneObject e{{}, w.object.instances, SceneObject::Origin::kSplit, {}}, rest = e;
-        for (std::size_t i = 0; i < in.size(); ++i)
-          (in[i] ? e : rest).points.push_back(w.object.points[i]);
-        Piece pe, pr;
-        if (e.points.size() >= min_part && rest.points.size() >= min_part &&
-            recognise(std::move(e), pe, {r.best.object}) && named(pe) &&
-            recognise(std::move(rest), pr) && named(pr)) {
-          pieces.push_back(std::move(pe));
-          queue.push_back(std::move(pr));
-          split = true;
-        }
+  std::deque<Piece> queue(std::make_move_iterator(pieces.begin()),
+                          std::make_move_iterator(pieces.end()));
+  std::vector<Piece> out;
+  while (!queue.empty()) {
+    Piece w = std::move(queue.front());
+    queue.pop_front();
+    const Recognition& r = w.object.recognition;
+    bool split = false;
+    if (named(w) && r.best.fitness < params.split_fitness &&
+        w.object.points.size() >= 2 * min_part) {
+      const std::vector<char> in =
+          explained(xyz_of(recognise.frame, w.object.points), recognise.db.views[r.best.view].cloud,
+                    r.best.pose, params.registration.fitness_distance);
+      SceneObject e{{}, w.object.instances, SceneObject::Origin::kSplit, {}}, rest = e;
+      for (std::size_t i = 0; i < in.size(); ++i)
+        (in[i] ? e : rest).points.push_back(w.object.points[i]);
+      Piece pe, pr;
+      if (e.points.size() >= min_part && rest.points.size() >= min_part &&
+          recognise(std::move(e), pe, {r.best.object}) && named(pe) &&
+          recognise(std::move(rest), pr) && named(pr)) {
+        out.push_back(std::move(pe));
+        queue.push_back(std::move(pr));
+        split = true;
       }
-      if (!split) pieces.push_back(std::move(w));
     }
+    if (!split) out.push_back(std::move(w));
   }
+  return out;
+}
 
-  // Merge: the best-scoring union of two near pieces that beats both parts, until none does.
-  // A union is tried against the objects its parts are named after: it can only beat a part
-  // as one of them. Unions are recognised once: a piece is known by its first point and its size
-  // (pieces are disjoint, and a merged piece is larger than both of its parts).
-  if (params.merge_distance > 0) {
-    using Key = std::array<std::size_t, 4>;
-    const auto key_of = [](const Piece& a, const Piece& b) {
-      Key k{std::size_t(a.object.points[0]), a.object.points.size(),
-            std::size_t(b.object.points[0]), b.object.points.size()};
-      if (k[2] < k[0]) std::swap(k[0], k[2]), std::swap(k[1], k[3]);
-      return k;
-    };
-    std::map<Key, Piece> tried;
-    for (;;) {
-      int best_i = -1, best_j = -1;
-      double best = -1;
-      for (std::size_t i = 0; i < pieces.size(); ++i)
-        for (std::size_t j = i + 1; j < pieces.size(); ++j) {
-          const Piece &a = pieces[i], &b = pieces[j];
-          if ((!named(a) && !named(b)) || !near(a, b, params.merge_distance)) continue;
-          const Key key = key_of(a, b);
-          auto it = tried.find(key);
-          if (it == tried.end()) {
-            SceneObject u{{}, a.object.instances, SceneObject::Origin::kMerged, {}};
-            std::merge(a.object.points.begin(), a.object.points.end(), b.object.points.begin(),
-                       b.object.points.end(), std::back_inserter(u.points));
-            u.instances.insert(u.instances.end(), b.object.instances.begin(),
-                               b.object.instances.end());
-            std::sort(u.instances.begin(), u.instances.end());
-            u.instances.erase(std::unique(u.instances.begin(), u.instances.end()),
-                              u.instances.end());
-            std::vector<std::string> objects;
-            for (const Piece* part : {&a, &b})
-              if (named(*part)) objects.push_back(part->object.recognition.best.object);
-            Cloud both = joined(a.cloud, b.cloud);
-            Piece p;
-            if (!recognise(std::move(u), p, objects, &both)) continue;
-            it = tried.emplace(key, std::move(p)).first;
-          }
-          const Piece& u = it->second;
-          if (named(u) && score(u) > std::max(score(a), score(b)) && score(u) > best)
-            best = score(u), best_i = static_cast<int>(i), best_j = static_cast<int>(j);
+// The union of two pieces as one scene object (points in frame order, instances of both).
+SceneObject united(const Piece& a, const Piece& b) {
+  SceneObject u{{}, a.object.instances, SceneObject::Origin::kMerged, {}};
+  std::merge(a.object.points.begin(), a.object.points.end(), b.object.points.begin(),
+             b.object.points.end(), std::back_inserter(u.points));
+  u.instances.insert(u.instances.end(), b.object.instances.begin(), b.object.instances.end());
+  std::sort(u.instances.begin(), u.instances.end());
+  u.instances.erase(std::unique(u.instances.begin(), u.instances.end()), u.instances.end());
+  return u;
+}
+
+// Merge: the best-scoring union of two near pieces that beats both parts, until none does.
+// A union is tried against the objects its parts are named after: it can only beat a part
+// as one of them. Unions are recognised once: a piece is known by its first point and its size
+// (pieces are disjoint, and a merged piece is larger than both of its parts).
+std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser& recognise) {
+  using Key = std::array<std::size_t, 4>;
+  const auto key_of = [](const Piece& a, const Piece& b) {
+    Key k{std::size_t(a.object.points[0]), a.object.points.size(), std::size_t(b.object.points[0]),
+          b.object.points.size()};
+    if (k[2] < k[0]) std::swap(k[0], k[2]), std::swap(k[1], k[3]);
+    return k;
+  };
+  std::map<Key, Piece> tried;
+  for (;;) {
+    int best_i = -1, best_j = -1;
+    double best = -1;
+    for (std::size_t i = 0; i < pieces.size(); ++i)
+      for (std::size_t j = i + 1; j < pieces.size(); ++j) {
+        const Piece &a = pieces[i], &b = pieces[j];
+        if ((!named(a) && !named(b)) || !near(a, b, recognise.params.merge_distance)) continue;
+        const Key key = key_of(a, b);
+        auto it = tried.find(key);
+        if (it == tried.end()) {
+          std::vector<std::string> objects;
+          for (const Piece* part : {&a, &b})
+            if (named(*part)) objects.push_back(part->object.recognition.best.object);
+          Cloud both = joined(a.cloud, b.cloud);
+          Piece p;
+          if (!recognise(united(a, b), p, objects, &both)) continue;
+          it = tried.emplace(key, std::move(p)).first;
         }
-      if (best_i < 0) break;
-      pieces[best_i] = std::move(tried.at(key_of(pieces[best_i], pieces[best_j])));
-      pieces.erase(pieces.begin() + best_j);
-    }
+        const Piece& u = it->second;
+        if (named(u) && score(u) > std::max(score(a), score(b)) && score(u) > best)
+          best = score(u), best_i = static_cast<int>(i), best_j = static_cast<int>(j);
+      }
+    if (best_i < 0) break;
+    pieces[best_i] = std::move(tried.at(key_of(pieces[best_i], pieces[best_j])));
+    pieces.erase(pieces.begin() + best_j);
   }
+  return pieces;
+}
 
+}  // namespace
+
+std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& selection,
+                                         const Database& db, const RecognitionParams& params,
+                                         const std::function<void(const SceneObject&)>& progress) {
+  const PieceRecogniser recognise{frame, db, params, progress};
+  std::vector<Piece> pieces = recognise_candidates(selection, recognise);
+  if (params.split_fitness > 0) pieces = split_pieces(std::move(pieces), recognise);
+  if (params.merge_distance > 0) pieces = merge_pieces(std::move(pieces), recognise);
+  // In frame order (of their first points), whatever order the passes left them in.
   std::sort(pieces.begin(), pieces.end(),
             [](const Piece& a, const Piece& b) { return a.object.points[0] < b.object.points[0]; });
   std::vector<SceneObject> out;

@@ -426,21 +426,13 @@ OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points) {
   return box;
 }
 
-Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
-                            const std::vector<std::uint32_t>& point_labels,
-                            const SelectionParams& params) {
-  Selection s;
-  s.instance.assign(frame.size(), 0);
+namespace {
 
-  // 1. Clusters: connected same-label voxels; every labelled point joins its voxel's cluster.
-  const VoxelSurface surface = voxel_surface(frame, grid);
-  // The supporting plane, when cut out, separates the objects from what they stand on.
-  const std::vector<char> in_plane = params.cut_support_plane ? support_plane(grid, surface, params)
-                                                              : std::vector<char>(grid.size(), 0);
-  const std::vector<int> voxel_cluster =
-      voxel_clusters(grid, point_labels, surface, in_plane, params, s.clusters);
+// Section 3.3's clusters per point: every labelled point joins its voxel's cluster (-1: none).
+std::vector<int> point_clusters(const Frame& frame, const VoxelGrid& grid,
+                                const std::vector<std::uint32_t>& point_labels,
+                                const std::vector<int>& voxel_cluster, std::vector<int>& labelled) {
   std::vector<int> cluster(frame.size(), -1);
-  std::vector<int> labelled;
   for (std::size_t p = 0; p < frame.size(); ++p) {
     const int v = grid.voxel_of_point[p];
     if (v >= 0 && point_labels[p] && voxel_cluster[v] >= 0) {
@@ -448,51 +440,62 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
       labelled.push_back(static_cast<int>(p));
     }
   }
+  return cluster;
+}
 
-  // 2. Weak connections: points whose density is far under their cluster's median.
+// The labelled points split by their density against their cluster's median [3.3, weak
+// connections]: `dense` (sorted) are clustered, `set_aside` join them afterwards. A cluster that
+// is weak everywhere is kept whole (all dense).
+struct DensitySplit {
+  std::vector<int> dense, set_aside;
+  std::vector<char> is_weak;  // per frame point: set aside
+};
+
+DensitySplit split_weak_points(const Frame& frame, const std::vector<int>& labelled,
+                               const std::vector<int>& cluster, int clusters,
+                               const SelectionParams& params) {
   const std::vector<float> density = point_density(frame, labelled, cluster, params.density_radius);
-  std::vector<std::vector<float>> per_cluster(s.clusters);
+  std::vector<std::vector<float>> per_cluster(clusters);
   for (int p : labelled) per_cluster[cluster[p]].push_back(density[p]);
-  std::vector<float> threshold(s.clusters, 0.0f);
-  for (int c = 0; c < s.clusters; ++c) {
+  std::vector<float> threshold(clusters, 0.0f);
+  for (int c = 0; c < clusters; ++c) {
     auto& d = per_cluster[c];
     std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
     threshold[c] = static_cast<float>(params.weak_density_ratio) * d[d.size() / 2];
   }
-  std::vector<int> dense, weak;
-  std::vector<char> cluster_has_dense(s.clusters, 0);
+  DensitySplit out;
+  std::vector<int> weak;
+  std::vector<char> cluster_has_dense(clusters, 0);
   for (int p : labelled) {
     if (density[p] >= threshold[cluster[p]]) {
-      dense.push_back(p);
+      out.dense.push_back(p);
       cluster_has_dense[cluster[p]] = 1;
     } else {
       weak.push_back(p);
     }
   }
-  // A cluster that is weak everywhere is kept whole.
-  std::vector<int> set_aside;
-  std::vector<char> is_weak(frame.size(), 0);
+  out.is_weak.assign(frame.size(), 0);
   for (int p : weak) {
-    (cluster_has_dense[cluster[p]] ? set_aside : dense).push_back(p);
-    is_weak[p] = cluster_has_dense[cluster[p]];
+    (cluster_has_dense[cluster[p]] ? out.set_aside : out.dense).push_back(p);
+    out.is_weak[p] = cluster_has_dense[cluster[p]];
   }
-  std::sort(dense.begin(), dense.end());
-  s.weak_points = set_aside.size();
+  std::sort(out.dense.begin(), out.dense.end());
+  return out;
+}
 
-  // 3. Euclidean clustering of the dense points within each cluster.
-  std::vector<int> component =
-      euclidean_components(frame, dense, cluster, params.cluster_tolerance);
-
-  // 4. Set-aside points go back to the component of the nearest dense point of their cluster,
-  // looked up in their own and neighbouring voxels; a kd-tree of the cluster is the fallback.
+// Set-aside points go back to the component of the nearest dense point of their cluster,
+// looked up in their own and neighbouring voxels; a kd-tree of the cluster is the fallback.
+void reattach_weak_points(const Frame& frame, const VoxelGrid& grid, const DensitySplit& split,
+                          const std::vector<int>& cluster, int clusters,
+                          std::vector<int>& component) {
   std::vector<int> orphans;
-  for (int p : set_aside) {
+  for (int p : split.set_aside) {
     const int v = grid.voxel_of_point[p];
     float best = INFINITY;
     int nearest = -1;
     auto scan = [&](int voxel) {
       for (int q : grid.points[voxel]) {
-        if (cluster[q] != cluster[p] || component[q] < 0 || is_weak[q]) continue;
+        if (cluster[q] != cluster[p] || component[q] < 0 || split.is_weak[q]) continue;
         const float d = (frame.xyz[q] - frame.xyz[p]).squaredNorm();
         if (d < best) best = d, nearest = q;
       }
@@ -504,99 +507,133 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
     else
       orphans.push_back(p);
   }
-  if (!orphans.empty()) {
-    std::vector<std::vector<int>> dense_of(s.clusters), orphans_of(s.clusters);
-    for (int p : dense) dense_of[cluster[p]].push_back(p);
-    for (int p : orphans) orphans_of[cluster[p]].push_back(p);
-    for (int c = 0; c < s.clusters; ++c) {
-      if (orphans_of[c].empty()) continue;
-      Eigen::MatrixXd xyz(3, dense_of[c].size());
-      for (std::size_t i = 0; i < dense_of[c].size(); ++i)
-        xyz.col(i) = frame.xyz[dense_of[c][i]].cast<double>();
-      const open3d::geometry::KDTreeFlann tree(xyz);
-      std::vector<int> nearest(1);
-      std::vector<double> dist2(1);
-      for (int p : orphans_of[c])
-        if (tree.SearchKNN(Eigen::Vector3d(frame.xyz[p].cast<double>()), 1, nearest, dist2) == 1)
-          component[p] = component[dense_of[c][nearest[0]]];
-    }
+  if (orphans.empty()) return;
+  std::vector<std::vector<int>> dense_of(clusters), orphans_of(clusters);
+  for (int p : split.dense) dense_of[cluster[p]].push_back(p);
+  for (int p : orphans) orphans_of[cluster[p]].push_back(p);
+  for (int c = 0; c < clusters; ++c) {
+    if (orphans_of[c].empty()) continue;
+    Eigen::MatrixXd xyz(3, dense_of[c].size());
+    for (std::size_t i = 0; i < dense_of[c].size(); ++i)
+      xyz.col(i) = frame.xyz[dense_of[c][i]].cast<double>();
+    const open3d::geometry::KDTreeFlann tree(xyz);
+    std::vector<int> nearest(1);
+    std::vector<double> dist2(1);
+    for (int p : orphans_of[c])
+      if (tree.SearchKNN(Eigen::Vector3d(frame.xyz[p].cast<double>()), 1, nearest, dist2) == 1)
+        component[p] = component[dense_of[c][nearest[0]]];
   }
+}
 
-  // 5. Components in order of their smallest point index. Their box, centroid and background
-  // flag are computed only where a step needs them: the merge below and the final instances.
-  auto group_components = [&]() {
-    std::unordered_map<int, int> slot;
-    std::vector<Candidate> out;
-    for (std::size_t p = 0; p < frame.size(); ++p) {
-      if (component[p] < 0) continue;
-      const auto [it, added] = slot.emplace(component[p], static_cast<int>(out.size()));
-      if (added) out.emplace_back();
-      out[it->second].points.push_back(static_cast<int>(p));
-    }
-    return out;
-  };
-  auto describe = [&](Candidate& c) {
-    c.label = point_labels[c.points[0]];
-    c.box = oriented_box(frame, c.points);
-    c.centroid = Eigen::Vector3d::Zero();
-    for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
-    c.centroid /= static_cast<double>(c.points.size());
-    c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
-                   is_background(frame, c, params);
-  };
-  std::vector<Candidate> components = group_components();
-
-  // 6. Optionally, neighbouring components that meet in a convex or flat boundary are merged,
-  // and coplanar pieces of the background with each other; objects never join the background.
-  if (params.merge_convex) {
-    // Pieces of the support plane count as background here, whatever their size: an object
-    // must not reach the table through a small piece of it.
-    std::map<int, const Candidate*> background, pieces;
-    for (Candidate& c : components) {
-      describe(c);
-      std::size_t on_plane = 0;
-      for (int p : c.points) on_plane += in_plane[grid.voxel_of_point[p]];
-      pieces[component[c.points[0]]] = &c;
-      if (c.background || 2 * on_plane > c.points.size()) background[component[c.points[0]]] = &c;
-    }
-    merge_convex(grid, surface, params, background, pieces, component);
-    components = group_components();
+// The components' points, components in order of their smallest point index. Their box,
+// centroid and background flag are computed only where a step needs them (describe_component).
+std::vector<Candidate> group_components(const std::vector<int>& component) {
+  std::unordered_map<int, int> slot;
+  std::vector<Candidate> out;
+  for (std::size_t p = 0; p < component.size(); ++p) {
+    if (component[p] < 0) continue;
+    const auto [it, added] = slot.emplace(component[p], static_cast<int>(out.size()));
+    if (added) out.emplace_back();
+    out[it->second].points.push_back(static_cast<int>(p));
   }
+  return out;
+}
 
-  // 7. Small components join the large neighbour they share the most voxel edges with (two
-  // rounds, so that a fragment beside a fragment also finds a home); the rest stay unassigned.
-  if (params.absorb_small) {
-    for (int round = 0; round < 2; ++round) {
-      std::map<int, bool> large;
-      for (const Candidate& c : components)
-        large[component[c.points[0]]] =
-            static_cast<int>(c.points.size()) >= params.min_candidate_points;
-      const std::vector<int> voxel_component = voxel_components(grid, component);
-      std::map<int, std::map<int, int>> contact;  // small -> large -> voxel edges
-      for (std::size_t u = 0; u < grid.size(); ++u) {
-        const int a = voxel_component[u];
-        if (a < 0 || large[a]) continue;
-        for (int v : grid.neighbours[u]) {
-          const int b = voxel_component[v];
-          if (b >= 0 && b != a && large[b]) ++contact[a][b];
-        }
-      }
-      std::map<int, int> target;
-      for (const auto& [small, counts] : contact)
-        target[small] = std::max_element(counts.begin(), counts.end(), [](auto& x, auto& y) {
-                          return x.second < y.second;
-                        })->first;
-      if (target.empty()) break;
-      for (int& c : component)
-        if (c >= 0 && target.count(c)) c = target[c];
-      components = group_components();
-    }
-  }
+void describe_component(const Frame& frame, const std::vector<std::uint32_t>& point_labels,
+                        const SelectionParams& params, Candidate& c) {
+  c.label = point_labels[c.points[0]];
+  c.box = oriented_box(frame, c.points);
+  c.centroid = Eigen::Vector3d::Zero();
+  for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
+  c.centroid /= static_cast<double>(c.points.size());
+  c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
+                 is_background(frame, c, params);
+}
 
-  // 8. Large components become instances.
+// Neighbouring components that meet in a convex or flat boundary are merged, and coplanar
+// pieces of the background with each other; objects never join the background. Pieces of the
+// support plane count as background here, whatever their size: an object must not reach the
+// table through a small piece of it.
+void merge_convex_components(const Frame& frame, const VoxelGrid& grid, const VoxelSurface& surface,
+                             const std::vector<char>& in_plane,
+                             const std::vector<std::uint32_t>& point_labels,
+                             const SelectionParams& params, std::vector<Candidate>& components,
+                             std::vector<int>& component) {
+  std::map<int, const Candidate*> background, pieces;
   for (Candidate& c : components) {
+    describe_component(frame, point_labels, params, c);
+    std::size_t on_plane = 0;
+    for (int p : c.points) on_plane += in_plane[grid.voxel_of_point[p]];
+    pieces[component[c.points[0]]] = &c;
+    if (c.background || 2 * on_plane > c.points.size()) background[component[c.points[0]]] = &c;
+  }
+  merge_convex(grid, surface, params, background, pieces, component);
+  components = group_components(component);
+}
+
+// Small components join the large neighbour they share the most voxel edges with (two rounds,
+// so that a fragment beside a fragment also finds a home); the rest stay unassigned.
+void absorb_small_components(const VoxelGrid& grid, const SelectionParams& params,
+                             std::vector<Candidate>& components, std::vector<int>& component) {
+  for (int round = 0; round < 2; ++round) {
+    std::map<int, bool> large;
+    for (const Candidate& c : components)
+      large[component[c.points[0]]] =
+          static_cast<int>(c.points.size()) >= params.min_candidate_points;
+    const std::vector<int> voxel_component = voxel_components(grid, component);
+    std::map<int, std::map<int, int>> contact;  // small -> large -> voxel edges
+    for (std::size_t u = 0; u < grid.size(); ++u) {
+      const int a = voxel_component[u];
+      if (a < 0 || large[a]) continue;
+      for (int v : grid.neighbours[u]) {
+        const int b = voxel_component[v];
+        if (b >= 0 && b != a && large[b]) ++contact[a][b];
+      }
+    }
+    std::map<int, int> target;
+    for (const auto& [small, counts] : contact)
+      target[small] = std::max_element(counts.begin(), counts.end(), [](auto& x, auto& y) {
+                        return x.second < y.second;
+                      })->first;
+    if (target.empty()) break;
+    for (int& c : component)
+      if (c >= 0 && target.count(c)) c = target[c];
+    components = group_components(component);
+  }
+}
+
+}  // namespace
+
+// Section 3.3 on the voxel grid: clusters of same-label voxels, their weak connections cut,
+// Euclidean components of the rest, optionally merged across convex boundaries and with small
+// fragments absorbed; the large ones become the candidates (instances 1..n).
+Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
+                            const std::vector<std::uint32_t>& point_labels,
+                            const SelectionParams& params) {
+  Selection s;
+  s.instance.assign(frame.size(), 0);
+  const VoxelSurface surface = voxel_surface(frame, grid);
+  // The supporting plane, when cut out, separates the objects from what they stand on.
+  const std::vector<char> in_plane = params.cut_support_plane ? support_plane(grid, surface, params)
+                                                              : std::vector<char>(grid.size(), 0);
+  const std::vector<int> voxel_cluster =
+      voxel_clusters(grid, point_labels, surface, in_plane, params, s.clusters);
+  std::vector<int> labelled;
+  const std::vector<int> cluster =
+      point_clusters(frame, grid, point_labels, voxel_cluster, labelled);
+  const DensitySplit split = split_weak_points(frame, labelled, cluster, s.clusters, params);
+  s.weak_points = split.set_aside.size();
+  std::vector<int> component =
+      euclidean_components(frame, split.dense, cluster, params.cluster_tolerance);
+  reattach_weak_points(frame, grid, split, cluster, s.clusters, component);
+  std::vector<Candidate> components = group_components(component);
+  if (params.merge_convex)
+    merge_convex_components(frame, grid, surface, in_plane, point_labels, params, components,
+                            component);
+  if (params.absorb_small) absorb_small_components(grid, params, components, component);
+  for (Candidate& c : components) {  // the large components become instances
     if (static_cast<int>(c.points.size()) < params.min_candidate_points) continue;
-    describe(c);
+    describe_component(frame, point_labels, params, c);
     c.instance = static_cast<std::uint32_t>(s.components.size() + 1);
     for (int p : c.points) s.instance[p] = c.instance;
     s.components.push_back(std::move(c));

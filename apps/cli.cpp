@@ -1,0 +1,148 @@
+// The pieces shared by the commands of the proxseg CLI (cli.hpp).
+#include <proxseg/io.hpp>
+#include <proxseg/params.hpp>
+#include <proxseg/pipeline.hpp>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+
+namespace cli {
+
+using proxseg::InputError;
+
+void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
+  cmd->add_option("--color", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
+  cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
+  cmd->add_option("--intrinsics", o.intrinsics,
+                  "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
+  cmd->add_option("--meta", o.meta, "YCB-Video meta JSON (intrinsic_matrix, factor_depth)");
+  cmd->add_option("--preset", o.preset,
+                  "Base parameters: default (best measured) or paper (the paper's settings)")
+      ->check(CLI::IsMember({"default", "paper"}));
+  cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
+  cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
+      ->check(CLI::IsMember({"swap", "expansion"}));
+  cmd->add_option("--mrf-cycles", o.mrf_cycles,
+                  "Most MRF sweeps over the labels (default 2; paper: until nothing changes)");
+  cmd->add_option("--voxel-size", o.voxel_size, "Voxel side in metres (paper: 0.02)");
+  cmd->add_option("--min-points", o.min_points, "Voxels with fewer points are not clustered");
+  cmd->add_option("--alpha", o.alpha, "Chi-square confidence of Algorithm 1 (paper: 0.85)");
+  cmd->add_option("--pca-dims", o.pca_dims, "Principal axes kept for clustering");
+  cmd->add_option("--prior-weight", o.prior_weight, "Shrinkage of centroid covariances (voxels)");
+  cmd->add_option("--wu", o.wu, "MRF unary weight w_u (paper: 1.0)");
+  cmd->add_option("--wc", o.wc, "MRF Potts weight w_c (paper: 0.275)");
+  cmd->add_option("--colour-weight", o.colour_weight, "Weight of the colour block");
+  cmd->add_option("--texture-weight", o.texture_weight, "Weight of the texture block");
+  cmd->add_option("--shape-weight", o.shape_weight, "Weight of the shape block");
+  cmd->add_flag("--no-colour", o.no_colour, "Switch the colour block off");
+  cmd->add_flag("--no-texture", o.no_texture, "Switch the texture block off");
+  cmd->add_flag("--no-shape", o.no_shape, "Switch the shape block off");
+  cmd->add_option("--cluster-tolerance", o.cluster_tolerance,
+                  "Euclidean clustering tolerance of the selection, metres");
+  cmd->add_option("--min-candidate-points", o.min_candidate_points,
+                  "Smaller components are not candidates");
+  cmd->add_option("--threads", o.threads,
+                  "Worker threads (0 = all cores); results do not depend on it");
+}
+
+// Preset < --config < individual flags.
+proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams p) {
+  if (o.voxel_size) p.voxels.voxel_size = *o.voxel_size;
+  if (o.min_points) p.voxels.min_points_per_voxel = *o.min_points;
+  if (o.alpha) p.clustering.alpha = *o.alpha;
+  if (o.pca_dims) p.clustering.pca_dims = *o.pca_dims;
+  if (o.prior_weight) p.clustering.prior_weight = *o.prior_weight;
+  if (o.wu) p.mrf.unary_weight = *o.wu;
+  if (o.wc) p.mrf.pairwise_weight = *o.wc;
+  if (o.colour_weight) p.features.colour_weight = *o.colour_weight;
+  if (o.texture_weight) p.features.texture_weight = *o.texture_weight;
+  if (o.shape_weight) p.features.shape_weight = *o.shape_weight;
+  if (o.no_colour) p.features.use_colour = false;
+  if (o.no_texture) p.features.use_texture = false;
+  if (o.no_shape) p.features.use_shape = false;
+  if (o.no_mrf) p.mrf.enabled = false;
+  if (o.mrf_method)
+    p.mrf.method =
+        *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
+  if (o.mrf_cycles) p.mrf.max_cycles = *o.mrf_cycles;
+  if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
+  if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
+  if (o.threads) p.threads = *o.threads;
+  proxseg::validate(p);
+  return p;
+}
+
+proxseg::Frame read_input(const SegmentOptions& o) {
+  if (!o.input.empty()) return proxseg::read_point_cloud(o.input);
+  const proxseg::Intrinsics k =
+      o.meta.empty() ? proxseg::read_intrinsics(o.intrinsics) : proxseg::read_ycb_meta(o.meta);
+  return proxseg::read_rgbd(o.color, o.depth, k);
+}
+
+void make_parent(const std::string& path) {
+  const auto parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (ec)
+    throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
+}
+
+void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs) {
+  const bool rgbd = !o.color.empty() || !o.depth.empty();
+  if (o.input.empty() == !rgbd)
+    throw CLI::ValidationError("give either INPUT or --color and --depth");
+  if (rgbd && (o.color.empty() || o.depth.empty()))
+    throw CLI::ValidationError("--color and --depth go together");
+  if (rgbd && o.intrinsics.empty() == o.meta.empty())
+    throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
+  for (const std::string& in : {o.input, o.color, o.depth})
+    for (const std::string& out : outputs)
+      if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(out) &&
+          std::filesystem::equivalent(in, out))
+        throw CLI::ValidationError("--output would overwrite the input " + in);
+}
+
+namespace {
+// The one piece of process state a signal handler may touch (async-signal-safe).
+volatile std::sig_atomic_t interrupt_signal = 0;
+
+extern "C" void on_interrupt(int sig) {
+  interrupt_signal = sig;
+  std::signal(sig, SIG_DFL);  // a second interrupt ends the process at once
+  const char msg[] =
+      "\nproxseg: interrupted: finishing the current item (interrupt again to abort)\n";
+  [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+}
+}  // namespace
+
+void catch_interrupts() {
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+}
+
+bool interrupted() {
+  return interrupt_signal != 0;
+}
+
+double rss_mib() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  if (!(statm >> pages >> resident)) return 0;
+  return static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+double peak_rss_mib() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
+}  // namespace cli

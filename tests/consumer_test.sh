@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Uses proxseg as a user does (README, Library).
+#   consumer_test.sh install BUILD_DIR PREFIX
+#     installs the build tree into PREFIX (emptied first);
+#   consumer_test.sh cmake|pkg-config PREFIX SOURCE_DIR SCENE.pcd
+#     builds examples/segment_scene.cpp against the installed files only, with
+#     find_package(proxseg) or with pkg-config, runs it on a real scene, and checks that it writes
+#     the same labelled PCD and picture as the installed CLI and a report with the version and
+#     the commit.
+set -euo pipefail
+mode=${1:-}
+case $mode in
+  install)
+    build=$2 prefix=$3
+    rm -rf "$prefix"
+    cmake --install "$build" --prefix "$prefix" >/dev/null
+    echo "consumer: installed into $prefix"
+    exit 0
+    ;;
+  cmake | pkg-config) prefix=$2 src=$3 scene=$4 ;;
+  *)
+    echo "consumer_test.sh: expected install, cmake or pkg-config, got '$mode'" >&2
+    exit 2
+    ;;
+esac
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+if [ "$mode" = cmake ]; then
+  cmake -S "$src/examples" -B "$work/build" -DCMAKE_PREFIX_PATH="$prefix" \
+    -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$work/build" >/dev/null
+  exe=$work/build/segment_scene
+else
+  PKG_CONFIG_PATH=$(dirname "$(find "$prefix" -name proxseg.pc)")
+  export PKG_CONFIG_PATH
+  # shellcheck disable=SC2046  # the flags are separate words
+  g++ -std=c++17 -O2 "$src/examples/segment_scene.cpp" -o "$work/segment_scene" \
+    $(pkg-config --cflags --libs proxseg)
+  exe=$work/segment_scene
+fi
+libdir=$(dirname "$(find "$prefix" -name 'libproxseg.so.*' | head -n 1)")
+LD_LIBRARY_PATH=$libdir "$exe" "$scene" "$work/consumer"
+# The installed CLI finds the installed library through its RPATH, without LD_LIBRARY_PATH.
+"$prefix/bin/proxseg" segment "$scene" -o "$work/cli" 2>/dev/null
+cmp "$work/consumer.pcd" "$work/cli.pcd"
+cmp "$work/consumer.png" "$work/cli.png"
+grep -q '"version"' "$work/consumer.json"
+grep -q '"commit"' "$work/consumer.json"
+echo "consumer ($mode): the same labelled PCD and picture as the installed CLI"
