@@ -94,6 +94,15 @@ struct PcdField {
   std::size_t value_index = 0;  // index of the field's first value on an ascii line
 };
 
+// The line of `all` that starts at pos (without its '\n'); pos moves to the next line.
+std::string_view next_line(std::string_view all, std::size_t& pos) {
+  std::size_t end = all.find('\n', pos);
+  if (end == std::string_view::npos) end = all.size();
+  const std::string_view line = all.substr(pos, end - pos);
+  pos = end < all.size() ? end + 1 : end;
+  return line;
+}
+
 std::vector<std::string_view> split_ws(std::string_view line) {
   std::vector<std::string_view> out;
   std::size_t i = 0;
@@ -180,10 +189,7 @@ PcdHeader parse_pcd_header(const std::string& path, const std::string& text) {
   std::size_t pos = 0, line_no = 0;
   const std::string_view all(text);
   while (pos < all.size() && !have_data) {
-    std::size_t end = all.find('\n', pos);
-    if (end == std::string_view::npos) end = all.size();
-    const std::string_view line = all.substr(pos, end - pos);
-    pos = end < all.size() ? end + 1 : end;
+    const std::string_view line = next_line(all, pos);
     ++line_no;
     const auto tok = split_ws(line);
     if (tok.empty() || tok[0][0] == '#') continue;
@@ -379,12 +385,8 @@ void read_pcd_ascii(const std::string& path, const std::string& text, const PcdH
   std::size_t pos = h.data_start, line_no = h.data_line;
   std::size_t got = 0;
   while (pos < all.size()) {
-    std::size_t end = all.find('\n', pos);
-    if (end == std::string_view::npos) end = all.size();
-    const std::string_view line = all.substr(pos, end - pos);
-    pos = end < all.size() ? end + 1 : end;
+    const auto tok = split_ws(next_line(all, pos));
     ++line_no;
-    const auto tok = split_ws(line);
     if (tok.empty()) continue;
     const std::string where = "line " + std::to_string(line_no);
     if (got == n)
