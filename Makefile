@@ -134,7 +134,7 @@ bench-dbscale: configure
 	@echo "docs/results.md (dbscale) regenerated; every object and row in $(DBSCALE_OUT)/dbscale.json"
 
 format:
-	@clang-format -i include/proxseg/*.hpp src/*.cpp src/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp
+	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)

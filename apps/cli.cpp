@@ -1,7 +1,7 @@
 // The pieces shared by the commands of the proxseg CLI (cli.hpp).
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <sys/resource.h>
 #include <unistd.h>

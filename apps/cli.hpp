@@ -1,9 +1,9 @@
 // The commands of the proxseg CLI, one file each (segment.cpp, synth.cpp, eval.cpp, db.cpp,
 // recognize.cpp; proxseg.cpp dispatches), and the pieces they share (cli.cpp).
 #pragma once
-#include <proxseg/frame.hpp>
-#include <proxseg/pipeline.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/render.hpp>
 
 #include <CLI/CLI.hpp>
 #include <optional>

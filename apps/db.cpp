@@ -1,7 +1,8 @@
 // `proxseg db add|render|info`: build and inspect a model database [paper 3.4].
-#include <proxseg/database.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/database.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
 
 #include <cmath>
 #include <iostream>

@@ -1,9 +1,9 @@
 // `proxseg eval-seg`: a segmentation scored against ground truth (docs/metrics.md).
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/output.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/output.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
 // proxseg command-line tool: proxseg <command> [options]. Logs on stderr, results on stdout or
 // files. Exit codes: 0 success, 1 bad input, 2 usage. One file per command (cli.hpp).
-#include <proxseg/frame.hpp>
-#include <proxseg/memory.hpp>
-#include <proxseg/version.hpp>
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/memory.hpp>
+#include <proxseg/core/version.hpp>
 
 #include <CLI/CLI.hpp>
 

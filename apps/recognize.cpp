@@ -1,10 +1,11 @@
 // `proxseg recognize`: segment -> select -> recognise every candidate [paper 3.1-3.4], or
 // recognise one already segmented cloud (--object).
-#include <proxseg/io.hpp>
-#include <proxseg/output.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
-#include <proxseg/recognition.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
+#include <proxseg/io/output.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -93,63 +94,23 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   return p;
 }
 
-proxseg::RecognizedObject recognise(const std::vector<Eigen::Vector3d>& points,
-                                    const std::vector<proxseg::Rgb>& colours, int id,
-                                    const proxseg::Database& db,
-                                    const proxseg::RecognitionParams& params) {
-  proxseg::RecognizedObject o;
-  o.id = id;
-  o.points = points.size();
-  for (const auto& p : points) o.centroid += p;
-  if (!points.empty()) o.centroid /= double(points.size());
-  const auto t = Clock::now();
-  const proxseg::Cloud cloud =
-      proxseg::describe_candidate(points, db, colours.empty() ? nullptr : &colours);
-  const double describe_ms = ms_since(t);
-  o.recognition = proxseg::recognize(cloud, db, params);
-  o.recognition.describe_ms = describe_ms;
-  return o;
-}
-
-// The objects of a scene with their ids (1.. in recognize_scene's order: each object its own id,
-// instances of one model too) as PREFIX.json and PREFIX.pcd give them.
-std::vector<proxseg::RecognizedObject> recognized_objects(
-    const proxseg::Frame& frame, const std::vector<proxseg::SceneObject>& scene) {
-  std::vector<proxseg::RecognizedObject> objects;
-  for (const auto& s : scene) {
-    proxseg::RecognizedObject r;
-    r.id = static_cast<int>(objects.size()) + 1;
-    r.points = s.points.size();
-    for (int i : s.points) r.centroid += frame.xyz[i].cast<double>();
-    r.centroid /= std::max<double>(1.0, s.points.size());
-    r.instances = s.instances;
-    r.origin = s.origin == proxseg::SceneObject::Origin::kSplit    ? "split"
-               : s.origin == proxseg::SceneObject::Origin::kMerged ? "merged"
-                                                                   : "candidate";
-    r.frame_points = s.points;
-    r.recognition = s.recognition;
-    objects.push_back(std::move(r));
-  }
-  return objects;
-}
-
-void print(const std::vector<proxseg::RecognizedObject>& objects) {
+void print(const std::vector<proxseg::SceneObject>& objects) {
   std::printf("%-4s %-7s %-22s %-6s %-7s %-8s %-22s %s\n", "id", "points", "name", "score",
               "fitness", "coverage", "runner-up", "score");
   for (const auto& o : objects) {
     const auto& r = o.recognition;
-    std::printf("%-4d %-7zu %-22s %-6.3f %-7.3f %-8.3f %-22s %.3f\n", o.id, o.points,
+    std::printf("%-4d %-7zu %-22s %-6.3f %-7.3f %-8.3f %-22s %.3f\n", o.id, o.points.size(),
                 r.name.c_str(), r.best.score, r.best.fitness, r.best.coverage,
                 r.runner_up.view >= 0 ? r.runner_up.object.c_str() : "-", r.runner_up.score);
   }
 }
 
 // Segments the frame and recognises every candidate, with a progress bar; the stage times in ms.
-std::vector<proxseg::RecognizedObject> recognise_scene(const proxseg::Frame& frame,
-                                                       const proxseg::SegmentParams& seg,
-                                                       const proxseg::Database& db,
-                                                       const proxseg::RecognitionParams& rec,
-                                                       double& segment_ms, double& recognize_ms) {
+std::vector<proxseg::SceneObject> recognise_scene(const proxseg::Frame& frame,
+                                                  const proxseg::SegmentParams& seg,
+                                                  const proxseg::Database& db,
+                                                  const proxseg::RecognitionParams& rec,
+                                                  double& segment_ms, double& recognize_ms) {
   auto t = Clock::now();
   const proxseg::SegmentResult result = proxseg::segment(frame, seg);
   segment_ms = ms_since(t);
@@ -170,9 +131,8 @@ std::vector<proxseg::RecognizedObject> recognise_scene(const proxseg::Frame& fra
                     << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part" : "union")
                     << " of candidate " << of << ": " << s.recognition.name << "\n";
       });
-  std::vector<proxseg::RecognizedObject> objects = recognized_objects(frame, scene);
   recognize_ms = ms_since(t);
-  return objects;
+  return scene;
 }
 
 }  // namespace
@@ -199,20 +159,12 @@ int run_recognize(const RecognizeOptions& o) {
             << db.views.size() << " views (" << static_cast<int>(load_ms) << " ms)\n";
 
   proxseg::Frame frame;
-  std::vector<proxseg::RecognizedObject> objects;
+  std::vector<proxseg::SceneObject> objects;
   double segment_ms = 0, recognize_ms = 0;
   if (object) {
     const auto t = Clock::now();
     frame = proxseg::read_point_cloud(o.object);
-    std::vector<Eigen::Vector3d> points;
-    std::vector<proxseg::Rgb> colours;
-    const bool coloured = frame.rgb.size() == frame.size();
-    for (std::size_t i = 0; i < frame.size(); ++i)
-      if (frame.valid(i)) {
-        points.push_back(frame.xyz[i].cast<double>());
-        if (coloured) colours.push_back(frame.rgb[i]);
-      }
-    objects.push_back(recognise(points, colours, 0, db, rec));
+    objects.push_back(proxseg::recognize_object(frame, db, rec));
     recognize_ms = ms_since(t);
   } else {
     frame = read_input(o);

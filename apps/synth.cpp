@@ -1,7 +1,7 @@
 // `proxseg synth`: the built-in synthetic scene, or generated cluttered tabletops (--clutter).
-#include <proxseg/clutter.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/eval/clutter.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include <CLI/CLI.hpp>
 

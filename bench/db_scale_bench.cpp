@@ -11,12 +11,13 @@
 // Usage: db_scale_bench --models DIR -o OUT [--units mm|m] [--views N] [--sizes 64,128,...]
 //                       [--tests N] [--all-tests N] [--lookalikes N] [--seed S] [--threads T]
 //                       [--json]
-#include <proxseg/io.hpp>
-#include <proxseg/memory.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/rec_eval.hpp>
-#include <proxseg/recognition.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/colour.hpp>
+#include <proxseg/core/memory.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/eval/rec_eval.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <omp.h>
 
@@ -131,50 +132,8 @@ Rng stream(std::uint64_t seed, std::uint64_t j) {
   return r;
 }
 
-Rgb to_rgb(double r, double g, double b) {
-  auto q = [](double x) {
-    return static_cast<std::uint8_t>(std::clamp(std::lround(255 * x), 0L, 255L));
-  };
-  return {q(r), q(g), q(b)};
-}
-
-// Hue, saturation and value in [0, 1] of an 8-bit colour, and back.
-Eigen::Vector3d to_hsv(const Rgb& c) {
-  const double r = c[0] / 255.0, g = c[1] / 255.0, b = c[2] / 255.0;
-  const double mx = std::max({r, g, b}), mn = std::min({r, g, b}), d = mx - mn;
-  double h = 0;
-  if (d > 0) {
-    if (mx == r)
-      h = std::fmod((g - b) / d, 6.0);
-    else if (mx == g)
-      h = (b - r) / d + 2;
-    else
-      h = (r - g) / d + 4;
-    h /= 6;
-    if (h < 0) h += 1;
-  }
-  return {h, mx > 0 ? d / mx : 0, mx};
-}
-
 Rgb from_hsv(double h, double s, double v) {
-  const double h6 = (h - std::floor(h)) * 6;
-  const int k = static_cast<int>(h6) % 6;
-  const double f = h6 - std::floor(h6), p = v * (1 - s), q = v * (1 - s * f),
-               t = v * (1 - s * (1 - f));
-  switch (k) {
-    case 0:
-      return to_rgb(v, t, p);
-    case 1:
-      return to_rgb(q, v, p);
-    case 2:
-      return to_rgb(p, v, t);
-    case 3:
-      return to_rgb(p, q, v);
-    case 4:
-      return to_rgb(t, p, v);
-    default:
-      return to_rgb(v, p, q);
-  }
+  return proxseg::to_rgb8(proxseg::hsv_to_rgb({h, s, v}));
 }
 
 // Packaging-like colours as the clutter generator draws them: a fifth nearly unsaturated
@@ -276,7 +235,7 @@ Distractor lookalike(const TestObject& o, int original, double turn) {
   d.hue_turn = turn;
   d.object = o;
   for (const Rgb& c : o.mesh.colours) {
-    const Eigen::Vector3d hsv = to_hsv(c);
+    const Eigen::Vector3d hsv = proxseg::rgb_to_hsv(c);
     d.chroma += hsv[1] * hsv[2];
   }
   if (!o.mesh.colours.empty()) d.chroma /= static_cast<double>(o.mesh.colours.size());
@@ -285,7 +244,7 @@ Distractor lookalike(const TestObject& o, int original, double turn) {
   d.object.name = o.name + "-hue" + fmt(360 * turn, 0);
   d.object.file = o.file + " (" + d.texture + " " + fmt(360 * turn, 0) + " deg)";
   for (Rgb& c : d.object.mesh.colours) {
-    const Eigen::Vector3d hsv = to_hsv(c);
+    const Eigen::Vector3d hsv = proxseg::rgb_to_hsv(c);
     c = from_hsv(hsv[0] + turn, tint ? std::max(hsv[1], kTintSaturation) : hsv[1], hsv[2]);
   }
   Eigen::Vector3d lo = o.mesh.vertices.at(0).cast<double>(), hi = lo;

@@ -5,7 +5,7 @@
 // (bench/peers_pcl.hpp), fill the valid points no supervoxel reached from the nearest labelled
 // point within 3 cm, number the segments 1..n by smallest point index (0 = invalid or unassigned)
 // and write OUTDIR/<stem>.pcd (binary x y z rgba label, organized when the input is). The only
-// proxseg code in it is the allocator setting of proxseg's CLI (src/memory.cpp).
+// proxseg code in it is the allocator setting of proxseg's CLI (src/core/memory.cpp).
 #include <pcl/common/io.h>
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
@@ -14,7 +14,7 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
-#include <proxseg/memory.hpp>
+#include <proxseg/core/memory.hpp>
 
 #include <cstdint>
 #include <exception>

@@ -3,8 +3,8 @@
 // Usage: peers_check SCENE.pcd...
 #include "peers_pcl.hpp"
 
-#include <proxseg/io.hpp>
-#include <proxseg/metrics.hpp>
+#include <proxseg/eval/metrics.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include <chrono>
 #include <cstdio>

@@ -8,7 +8,7 @@
 // smallest point index (except euclidean(): see there). Nothing is printed on stdout (PCL's
 // console verbosity is set to errors only, which go to stderr).
 #pragma once
-#include <proxseg/frame.hpp>
+#include <proxseg/core/frame.hpp>
 
 #include <cstdint>
 #include <vector>

@@ -8,8 +8,8 @@
 // alone. Open3D and PCL stay inside bench/peers_rec.cpp, OpenCV's contrib module inside
 // bench/peers_ppf.cpp: this header needs none of them.
 #pragma once
-#include <proxseg/database.hpp>
-#include <proxseg/registration.hpp>
+#include <proxseg/core/database.hpp>
+#include <proxseg/core/registration.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>

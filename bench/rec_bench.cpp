@@ -11,12 +11,12 @@
 //                  [--peer-tests N] [--seed S] [--threads T] [--config FILE] [--json]
 #include "bench_util.hpp"
 
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/memory.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/rec_eval.hpp>
-#include <proxseg/recognition.hpp>
+#include <proxseg/core/memory.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/rec_eval.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <omp.h>
 #include <unistd.h>

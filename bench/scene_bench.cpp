@@ -1,5 +1,5 @@
 // scene_bench (`make bench-scenes`): end-to-end scene recognition on generated cluttered
-// tabletops (include/proxseg/scene_eval.hpp). Each scene of the development and report splits
+// tabletops (include/proxseg/eval/scene_eval.hpp). Each scene of the development and report splits
 // holds known objects (in the database), colour look-alikes of them, unknown catalogue objects
 // and the generator's random boxes and cylinders; proxseg (segment + recognize_scene) and the
 // peer pipeline (PCL plane + Euclidean clusters, Open3D RANSAC + ICP against every view, named
@@ -10,13 +10,13 @@
 // Usage: scene_bench [--models DIR] -o OUT [--dev-seeds LIST] [--report-seeds LIST]
 //                    [--scenes N [--first-seed S]] [--views N] [--threads T] [--config FILE]
 //                    [--peers all|none] [--json]
-#include <proxseg/io.hpp>
-#include <proxseg/memory.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
-#include <proxseg/recognition.hpp>
-#include <proxseg/scene_eval.hpp>
-#include <proxseg/version.hpp>
+#include <proxseg/core/memory.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/version.hpp>
+#include <proxseg/eval/scene_eval.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <omp.h>
 
@@ -390,7 +390,8 @@ int run(const Options& o) {
      << "(docs/clutter.md) with " << set.min_objects << "-" << set.max_objects
      << " objects; a free or touching object is drawn with probability "
      << fmt(set.catalogue_share, 2) << " from a catalogue of " << catalogue.entries.size()
-     << " fixed objects (scene_catalogue(), include/proxseg/scene_eval.hpp), at most 2 of each "
+     << " fixed objects (scene_catalogue(), include/proxseg/eval/scene_eval.hpp), at most 2 of "
+        "each "
         "per scene: "
      << objects_known << " known (in the database: ";
   for (std::size_t i = 0; i < catalogue.entries.size(); ++i)

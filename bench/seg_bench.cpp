@@ -12,11 +12,11 @@
 #include "bench_util.hpp"
 #include "peers_pcl.hpp"
 
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/memory.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/memory.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

@@ -13,10 +13,10 @@
 //            lists ([[...], [...]]); a single non-list value is a sweep of one.
 #include "bench_util.hpp"
 
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>

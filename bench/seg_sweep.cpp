@@ -1,9 +1,9 @@
 // Parameter sweep for the segmentation: runs segment() on the given scenes with a JSON override
 // and prints k and the V-measure (mOSD objects) after k-means and after the MRF.
 // Usage: seg_sweep '{"clustering":{"prior_weight":100}}' scene.pcd...
-#include <proxseg/io.hpp>
-#include <proxseg/metrics.hpp>
-#include <proxseg/params.hpp>
+#include <proxseg/eval/metrics.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <cstdio>
 #include <map>

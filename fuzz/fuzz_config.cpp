@@ -1,7 +1,7 @@
 // libFuzzer harness: the JSON configs: `segment --config`, `recognize --config`, and
 // the camera files (intrinsics JSON, YCB-Video meta).
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include "fuzz_util.hpp"
 

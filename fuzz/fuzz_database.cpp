@@ -1,7 +1,8 @@
 // libFuzzer harness: the model database loader. One input packs (fuzz_util.hpp kPart) the
 // index.json, one view's PCD and its feature cache, written where the seed's index names them
 // (views/obj-000.pcd, views/obj-000.fpfh); a mutated index may name other files.
-#include <proxseg/database.hpp>
+#include <proxseg/core/database.hpp>
+#include <proxseg/io/database.hpp>
 
 #include "fuzz_util.hpp"
 

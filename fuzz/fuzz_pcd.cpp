@@ -1,5 +1,5 @@
 // libFuzzer harness: the PCD reader (ascii, binary, binary_compressed; label fields).
-#include <proxseg/io.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include "fuzz_util.hpp"
 

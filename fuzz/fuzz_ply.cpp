@@ -1,6 +1,6 @@
 // libFuzzer harness: the model readers: PLY point cloud and mesh (Open3D behind our header
 // check) and the YCB-Video points.xyz text format.
-#include <proxseg/io.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include <cmath>
 

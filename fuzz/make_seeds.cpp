@@ -1,9 +1,10 @@
 // Builds the fuzzers' seed corpora from the real files in ../shared/data (never committed):
 // small crops of real frames in every encoding the readers take, heads of the real files
 // (truncated inputs) and a few hand-mutated headers. Usage: make_seeds DATA_DIR OUT_DIR
-#include <proxseg/database.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
+#include <proxseg/core/database.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <cstring>
 #include <filesystem>

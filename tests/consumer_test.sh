@@ -38,9 +38,9 @@ else
     $(pkg-config --cflags --libs proxseg)
   exe=$work/segment_scene
 fi
-libdir=$(dirname "$(find "$prefix" -name 'libproxseg.so.*' | head -n 1)")
+libdir=$(dirname "$(find "$prefix" -name 'libproxseg_core.so.*' | head -n 1)")
 LD_LIBRARY_PATH=$libdir "$exe" "$scene" "$work/consumer"
-# The installed CLI finds the installed library through its RPATH, without LD_LIBRARY_PATH.
+# The installed CLI finds the installed libraries through its RPATH, without LD_LIBRARY_PATH.
 "$prefix/bin/proxseg" segment "$scene" -o "$work/cli" 2>/dev/null
 cmp "$work/consumer.pcd" "$work/cli.pcd"
 cmp "$work/consumer.png" "$work/cli.png"

@@ -1,6 +1,6 @@
 // The proxseg command line: outputs, exit codes (0 ok, 1 bad input, 2 usage), error messages.
-#include <proxseg/io.hpp>
-#include <proxseg/version.hpp>
+#include <proxseg/core/version.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include "cli_util.hpp"
 

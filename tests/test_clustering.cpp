@@ -1,4 +1,4 @@
-#include <proxseg/clustering.hpp>
+#include <proxseg/core/clustering.hpp>
 
 #include <gtest/gtest.h>
 

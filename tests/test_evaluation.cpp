@@ -1,9 +1,9 @@
 // Evaluation on labelled scenes: schemes, categories, summaries, and the regression guard of the
 // default segmentation on real mOSD scenes.
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,8 @@
-#include <proxseg/features.hpp>
+#include <proxseg/core/features.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/core/voxels.hpp>
+
+#include "../src/core/gabor_reference.hpp"
 
 #include <gtest/gtest.h>
 
@@ -191,4 +195,30 @@ TEST(VoxelFeatures, BlocksWeightsAndThreads) {
               1e-6);
   EXPECT_EQ(c.middleCols(kColourDims, kTextureDims).cwiseAbs().maxCoeff(), 0.f);
   EXPECT_EQ((c.rightCols(kShapeDims) - a.rightCols(kShapeDims)).cwiseAbs().maxCoeff(), 0.f);
+}
+
+// voxel_features() bins each filter's responses without keeping the bank, through the response
+// cells of the rows' pixels; at stride 1 its texture block must be the reference's exactly.
+TEST(TextureFeature, VoxelFeaturesEqualTheReferenceAtStrideOne) {
+  const Frame f = synth_scene(SynthParams{});
+  FeatureParams params;
+  params.use_colour = false;
+  params.use_shape = false;
+  params.gabor_stride = 1;
+  const VoxelGrid grid = build_voxels(f, 0.02);
+  const std::vector<int> voxels = dense_voxels(grid, 10);
+  ASSERT_GT(voxels.size(), 500u);
+  const Eigen::MatrixXf features = voxel_features(f, grid, voxels, params, 2);
+  const GaborBank bank = gabor_bank(f, params);
+  int textured = 0;
+  for (std::size_t row = 0; row < voxels.size(); ++row) {
+    const Eigen::VectorXf reference = texture_feature(bank, grid.points[voxels[row]]);
+    const Eigen::VectorXf fast = features.row(row).segment(kColourDims, kTextureDims).transpose();
+    ASSERT_LE((fast - reference).cwiseAbs().maxCoeff(), 1e-6f) << "voxel row " << row;
+    // Not all in the lowest bins: the scene's texture reaches the upper bins somewhere.
+    for (int filter = 0; filter < kGaborScales * kGaborOrientations; ++filter)
+      textured += reference.segment(filter * kHistogramBins + 5, 5).sum() > 0.5f;
+  }
+  EXPECT_GT(textured, 100);
+  EXPECT_EQ(features.leftCols(kColourDims).cwiseAbs().maxCoeff(), 0.f);  // colour off
 }

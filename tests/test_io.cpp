@@ -12,8 +12,8 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/output.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/output.hpp>
 #include <set>
 #include <sstream>
 #include <string>
@@ -518,7 +518,8 @@ TEST(IoRgbd, Errors) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// Image decoding (libpng / libjpeg, src/image_io.cpp) against OpenCV's cv::imread(IMREAD_UNCHANGED)
+// Image decoding (libpng / libjpeg, src/io/image_io.cpp) against OpenCV's
+// cv::imread(IMREAD_UNCHANGED)
 
 namespace {
 

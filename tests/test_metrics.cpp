@@ -1,7 +1,7 @@
 // Tests of the segmentation metrics: hand-made labellings whose every score is worked out by hand
 // in the comments, a brute-force check of the matching, and one real mOSD scene.
-#include <proxseg/io.hpp>
-#include <proxseg/metrics.hpp>
+#include <proxseg/eval/metrics.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Tests of the MRF stage [paper 3.2]: unary potentials (eq. 2), edge list, Potts energy and the
 // alpha-beta swap / alpha-expansion minimisers.
-#include <proxseg/mrf.hpp>
+#include <proxseg/core/mrf.hpp>
 
-#include "../src/maxflow.hpp"
+#include "../src/core/maxflow.hpp"
 
 #include <gtest/gtest.h>
 

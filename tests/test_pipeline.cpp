@@ -1,9 +1,9 @@
 // End-to-end runs of segment() on real data (mOSD, YCB-Video, PCL) and on the synthetic scene.
-#include <proxseg/io.hpp>
-#include <proxseg/metrics.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/eval/metrics.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <gtest/gtest.h>
 

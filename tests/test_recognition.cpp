@@ -2,12 +2,13 @@
 // acceptance runs of the recognition issue on real data (PCL milk scene, YCB-Video frames).
 #include <gtest/gtest.h>
 #include <unistd.h>
-#include <proxseg/database.hpp>
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/pipeline.hpp>
-#include <proxseg/recognition.hpp>
-#include <proxseg/render.hpp>
+#include <proxseg/core/database.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
 
 #include <Eigen/Geometry>
 #include <cstdio>

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <proxseg/render.hpp>
+#include <proxseg/core/render.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <chrono>

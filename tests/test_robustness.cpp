@@ -2,7 +2,7 @@
 // a result or a one-line error naming the file or field (exit 1), never a crash, a hang or a
 // partial output. Also determinism (same outputs at 1 and 2 threads, run after run) and an
 // interrupted batch.
-#include <proxseg/io.hpp>
+#include <proxseg/io/cloud_io.hpp>
 
 #include <signal.h>
 #include <sys/wait.h>

@@ -2,7 +2,7 @@
 // matching, the IoU floor, what counts as TP / FN / FP and as an unknown object named, ADD-S,
 // and the re-thresholded curve.
 #include <gtest/gtest.h>
-#include <proxseg/scene_eval.hpp>
+#include <proxseg/eval/scene_eval.hpp>
 
 #include <Eigen/Geometry>
 #include <numeric>

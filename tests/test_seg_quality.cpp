@@ -2,11 +2,11 @@
 // issue. Floors are set a little under what the default reached when they were written
 // (docs/method.md, "Selection on the image grid"); a change that loses quality fails here.
 #include <gtest/gtest.h>
-#include <proxseg/clutter.hpp>
-#include <proxseg/evaluation.hpp>
-#include <proxseg/io.hpp>
-#include <proxseg/params.hpp>
-#include <proxseg/pipeline.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/eval/clutter.hpp>
+#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/params.hpp>
 
 #include <algorithm>
 #include <cstdio>

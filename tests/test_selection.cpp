@@ -1,6 +1,6 @@
 // Selection [paper 3.3]: clusters, weak links, Euclidean split, candidates, background, boxes.
-#include <proxseg/render.hpp>
-#include <proxseg/selection.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/core/selection.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include <proxseg/voxels.hpp>
+#include <proxseg/core/voxels.hpp>
 
 #include <gtest/gtest.h>
 

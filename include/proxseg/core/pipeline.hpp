@@ -1,0 +1,59 @@
+// segment(): voxels -> features -> Algorithm 1 -> k-means -> MRF -> selection (paper 3.1-3.3).
+#pragma once
+#include <proxseg/core/clustering.hpp>
+#include <proxseg/core/features.hpp>
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/mrf.hpp>
+#include <proxseg/core/selection.hpp>
+#include <proxseg/core/voxels.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace proxseg {
+
+// Every parameter of the segmentation, one struct per stage, with the paper's defaults.
+struct SegmentParams {
+  VoxelParams voxels;
+  FeatureParams features;
+  ClusteringParams clustering;
+  KMeansParams kmeans;
+  MrfParams mrf;
+  SelectionParams selection;
+  int threads = 0;  // 0 = all cores; results do not depend on it
+};
+
+struct SegmentResult {
+  VoxelGrid voxels;
+  std::vector<int> clustered;               // voxels that were clustered (>= min_points_per_voxel)
+  Eigen::MatrixXf features;                 // one row per clustered voxel, block-balanced
+  FeatureSpace space;                       // principal axes the clustering works in
+  std::vector<Centroid> initial_centroids;  // Algorithm 1
+  Eigen::MatrixXd centroids;                // after k-means (projected space)
+  std::vector<int> labels_kmeans;           // per clustered voxel, 0..k-1
+  std::vector<int> labels;                  // per clustered voxel after the MRF (= k-means if off)
+  double energy_before = 0, energy_after = 0;
+  int kmeans_iterations = 0, mrf_cycles = 0;
+  std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k
+  std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
+  Selection selection;                                   // clusters -> candidates [3.3]
+  std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
+  // Stages that ran on a second thread beside the ones above (the image-grid geometry of the
+  // selection, beside Algorithm 1 .. point labels): not part of the sequence.
+  std::vector<std::pair<std::string, double>> concurrent_ms;
+  double total_ms = 0;  // wall time of segment()
+  int k() const { return static_cast<int>(centroids.rows()); }
+};
+
+// Checks ranges (voxel size > 0, weights >= 0, ...); throws InputError naming the field.
+void validate(const SegmentParams& params);
+// Named parameter sets: "default" (the best measured settings, docs/results.md) and "paper"
+// (exactly the settings the paper gives: w_c = 0.275, alpha-beta swap, 2 cm voxels, alpha = 0.85;
+// everything the paper leaves open keeps its default). Throws InputError for an unknown name.
+SegmentParams preset(const std::string& name);
+
+// Segments the frame (validates the parameters first).
+SegmentResult segment(const Frame& frame, const SegmentParams& params);
+
+}  // namespace proxseg

@@ -1,0 +1,132 @@
+// Recognition [paper 3.4, Algorithm 3]: align a candidate to every model view of the database
+// and name it after the view with the best score, or "unknown" under a threshold.
+#pragma once
+#include <proxseg/core/database.hpp>
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/registration.hpp>
+#include <proxseg/core/selection.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace proxseg {
+
+enum class Score {
+  kFitness,    // the paper's eq. 5: candidate points explained by the model (one-sided)
+  kSymmetric,  // sqrt(close_fitness x coverage), both within score_distance: also the share of
+               // the visible model the candidate explains, so that a small box on the face of a
+               // big one does not score 1
+  kColour,     // kSymmetric x the colour agreement of the explained points (Alignment::colour):
+               // tells apart objects of one shape in different colours. When the candidate or the
+               // view has no colour, x kColourlessAgreement instead.
+};
+
+// The colour term of a comparison without colour: about what a right answer's colour agreement
+// is (docs/method.md "Colour in recognition"), so that a view without colour neither wins over
+// coloured ones nor passes the minimum score for free.
+constexpr double kColourlessAgreement = 0.93;
+
+struct RecognitionParams {
+  RegistrationParams registration;
+  Score score = Score::kColour;
+  double min_score = 0.5;  // best score below it: "unknown"
+  // Best score minus the runner-up's (the best view of another object) below it: "unknown"
+  // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
+  // well, as happens for an object the database does not hold, which several models fit a bit.
+  double min_margin = 0.15;
+  // At or above this best score the margin is not asked for: a model that explains this much of
+  // the candidate and of its own visible surface names it even when a look-alike comes close
+  // (the YCB-Video gelatin box, 0.89, against the pudding box, 0.76, by shape alone).
+  double confident_score = 0.8;
+  // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp),
+  // with the nearest view of a second object when they all show one, so that there is a
+  // runner-up [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
+  int shortlist = 16;
+  // Views aligned per split or merge trial of recognize_scene(), among the views of the objects
+  // the trial concerns (nearest by signature); 0 = all of those objects' views.
+  int trial_shortlist = 4;
+  // > 0: stop after the first batch of views (8 at a time, nearest by signature first) in which
+  // some view reached this score. Faster; may change the answer (a later view could score
+  // higher). 0 = align every shortlisted view.
+  double early_exit = 0.8;
+  // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
+  // that names a candidate also tells which of its points belong to it.
+  // Split: a named candidate whose best fitness is under split_fitness is cut into the points
+  // its model explains and the rest, when both have min_part_points and both are named on their
+  // own (two touching objects that the selection kept together). 0 = off.
+  double split_fitness = 0.8;
+  // Merge: two candidates whose points come within merge_distance (metres) and whose union is
+  // named with a better score than either part become one (an object cut in two by a missing
+  // rim or a shadow). 0 = off.
+  double merge_distance = 0.03;
+  int min_part_points = 500;  // points of the frame
+  std::uint64_t seed = 1;
+  int threads = 0;  // 0 = all cores; the answer does not depend on it
+};
+
+// Checks ranges (distances > 0, scores in [0, 1], ...); throws InputError naming the field.
+void validate(const RecognitionParams& params);
+
+struct Match {
+  std::string object;                                  // empty when there is none
+  int view = -1;                                       // index into Database::views
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
+  double fitness = 0, coverage = 0, score = 0, rmse = 0;
+  double colour = 1;  // Alignment::colour
+};
+
+struct Recognition {
+  std::string
+      name;  // best.object, or "unknown" (under min_score, or min_margin when not confident)
+  Match best;
+  Match runner_up;                    // the best view of any other object
+  std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
+  int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
+  double align_ms = 0;                // wall time over all views
+  double describe_ms = 0;  // describing the candidate (recognize_object; 0 from recognize())
+};
+
+double score_of(const Alignment& a, Score score);
+
+// Describes the candidate's points (sensor frame; sensor at the origin) like the database views,
+// with their colours when given (one per point).
+Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
+                         const std::vector<Rgb>* colours = nullptr);
+// The views recognize() aligns: those of `objects` (every object when empty), the `shortlist`
+// nearest to the candidate by signature (all when 0), nearest first, and the nearest view of
+// another object when those show only one.
+std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
+                                 const std::vector<std::string>& objects = {});
+// Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
+Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
+                      const std::vector<std::string>& objects = {});
+
+// One recognised object: the frame points it holds, the selection instances they came from,
+// and its recognition.
+struct SceneObject {
+  int id = 0;               // 1.. in recognize_scene's order; 0 for recognize_object
+  std::vector<int> points;  // frame point indices, ascending
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of those points, metres
+  std::vector<std::uint32_t> instances;  // the candidates (instance ids) it holds points of
+  enum class Origin { kCandidate, kSplit, kMerged } origin = Origin::kCandidate;
+  Recognition recognition;
+};
+
+// Algorithm 3 for one object given as a cloud of its own (every valid point of `cloud`, with its
+// colours when it has them): describes it like the database views (Recognition::describe_ms)
+// and aligns it. id 0, points = the valid points, instances empty.
+SceneObject recognize_object(const Frame& cloud, const Database& db,
+                             const RecognitionParams& params);
+
+// Algorithm 3 over every candidate of a selection (background excluded), then the split and
+// merge passes of RecognitionParams. `progress` is called after each recognition with the
+// object just recognised (the candidates' in any order: they run in parallel; one call at a
+// time; its id not yet set). Objects come in order of their smallest point index, with ids 1...
+std::vector<SceneObject> recognize_scene(
+    const Frame& frame, const Selection& selection, const Database& db,
+    const RecognitionParams& params, const std::function<void(const SceneObject&)>& progress = {});
+
+}  // namespace proxseg

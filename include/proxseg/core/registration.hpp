@@ -1,0 +1,165 @@
+// Registration [paper 3.4, Algorithm 2]: align a model view to a candidate object (centroid
+// shift, FPFH, RANSAC on feature correspondences, ICP) and score the alignment (eq. 4-5).
+#pragma once
+#include <proxseg/core/frame.hpp>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// How clouds are described. Fixed per model database: a candidate must be described exactly as
+// the views it is compared with, so these live in the database index.
+struct DescriptorParams {
+  double voxel_size = 0.005;  // voxel-grid filter before everything else [3.4], metres
+  double normal_radius = 0.01;
+  // FPFH support radii (the paper lists several per run, 3-50 mm). Each radius gives 33 bins;
+  // how they combine is RegistrationParams::multi_radius (docs/method.md, "Recognition").
+  std::vector<double> fpfh_radii = {0.015, 0.03};
+};
+
+enum class MultiRadius {
+  kConcatenate,  // one descriptor of 33 x radii bins, one RANSAC
+  kBestOf,       // one RANSAC per radius, the best of them goes on to ICP
+};
+
+struct RegistrationParams {
+  MultiRadius multi_radius = MultiRadius::kConcatenate;
+  int ransac_iterations = 1000;      // hypotheses that pass the edge test (paper: 100 / 200)
+  double ransac_distance = 0.01;     // inlier distance of a correspondence under a hypothesis
+  double edge_similarity = 0.9;      // sample pre-rejection: edge-length ratio between the clouds
+  double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
+  int ransac_candidates = 60;        // best distinct hypotheses re-judged by their true overlap
+  bool mutual_filter = false;        // keep only mutually nearest feature pairs
+  // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
+  // use all of them). Matching costs candidate x view points per view.
+  int max_points = 300;
+  int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
+  int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
+  double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
+  bool point_to_plane = false;     // the paper's ICP is point-to-point
+  double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
+  // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
+  // that a box face is not explained by the flat top of a can of about the same size.
+  double score_distance = 0.005;
+};
+
+// A cloud's summary, compared before any registration to shortlist the database views worth
+// aligning [extension, docs/method.md "A database that scales"]: cheap to compare, and about the
+// same for two views of one object from nearby directions.
+struct Signature {
+  Eigen::VectorXf shape;   // mean FPFH over the points, each radius block normalised to sum 1
+  Eigen::VectorXf colour;  // chromaticity histogram, sums to 1; empty when the cloud has no colour
+  double spread = 0;       // root mean square distance of the points to their centroid, metres
+};
+// Distance of two signatures: the L1 distances of the shape and colour histograms (each in
+// [0, 1]; the colour term is left out when either has no colour) plus |log| of the spreads'
+// ratio. 0 for equal signatures.
+double signature_distance(const Signature& a, const Signature& b);
+
+// A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
+// its viewpoint, FPFH features (one column per point) and search indexes.
+struct SearchIndex;  // point grid and feature matrices (src/registration.cpp)
+struct Cloud {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::MatrixXd features;  // (33 * radii) x points
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the sensor, in the cloud's frame
+  double spacing = 0;                                   // median nearest-neighbour distance
+  // Per point colour (the voxel means), empty when the cloud has none (an XYZ-only scan or
+  // model); recognition then judges geometry alone.
+  std::vector<Rgb> colours;
+  Signature signature;
+  std::shared_ptr<const SearchIndex> index;
+  std::size_t size() const { return points.size(); }
+};
+
+// The deterministic voxel-grid filter: one point (the mean) per occupied cell, in cell order;
+// non-finite points are dropped. With colours, out_colours gets each cell's mean colour.
+std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& points,
+                                          double voxel_size,
+                                          const std::vector<Rgb>* colours = nullptr,
+                                          std::vector<Rgb>* out_colours = nullptr);
+// Filters, then describe_filtered(). With colours (one per point), the cloud keeps each voxel's
+// mean colour.
+Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
+               const DescriptorParams& params, const std::vector<Rgb>* colours = nullptr);
+// Estimates normals (oriented towards viewpoint; away from the centroid when the viewpoint is not
+// finite, for full models), computes FPFH and builds the indexes. The database stores points,
+// normals and features as floats, so a cloud restored from it equals this one to float precision.
+// Throws InputError when there are fewer than 10 points. colours: one per point, or empty.
+Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
+                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params,
+                        std::vector<Rgb> colours = {});
+// Rebuilds a described cloud from stored points, normals and features (database cache).
+Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
+              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint,
+              std::vector<Rgb> colours = {});
+
+// The result of aligning one model view to one candidate.
+struct Alignment {
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
+  double fitness = 0;        // eq. 5: share of candidate points within delta_th of the aligned view
+  double close_fitness = 0;  // the same within score_distance
+  double coverage = 0;       // share of the view's points visible from the candidate's viewpoint
+                             // that have a candidate point within score_distance (model-side term)
+  double rmse = 0;           // of the fitness inliers
+  // Colour agreement of the close_fitness inliers with the view points that explain them, in
+  // [0, 1] (colour_agreement()); 1 and coloured = false when either cloud has no colour.
+  double colour = 1;
+  bool coloured = false;
+  int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
+  double ransac_ms = 0, icp_ms = 0, score_ms = 0;
+};
+
+// Algorithm 2 for one (candidate, view) pair; `seed` drives the RANSAC samples, so the result
+// depends only on the inputs and the seed.
+Alignment align(const Cloud& candidate, const Cloud& view, const RegistrationParams& params,
+                std::uint64_t seed);
+// The same with the candidate's sample (subsample(candidate, params.max_points)) made once by
+// the caller, when one candidate meets many views.
+Alignment align(const Cloud& candidate, const Cloud& sample, const Cloud& view,
+                const RegistrationParams& params, std::uint64_t seed);
+// At most max_points points of the cloud, evenly spaced in its order (the cloud itself if it
+// has no more; max_points <= 0: all).
+Cloud subsample(const Cloud& cloud, int max_points);
+
+// The symmetric overlap of a pose: sqrt(fitness x coverage), high only when the view explains
+// the candidate and the candidate explains the visible view. One rule ranks RANSAC hypotheses
+// (within ransac_distance), ICP starts and views (Score::kSymmetric, within score_distance).
+inline double symmetric_overlap(double fitness, double coverage) {
+  return std::sqrt(fitness * coverage);
+}
+
+// The scores of a given pose (candidate <- model): fitness (eq. 5), close_fitness, coverage and
+// rmse, as align() scores its own result (used to judge other registrations the same way).
+Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                     const RegistrationParams& params);
+
+// Eq. 4-5 and the model-side term for a given pose (candidate <- model).
+double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
+               double* rmse = nullptr);
+double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                double delta);
+// The colour term [extension, docs/method.md "Colour in recognition"]: the mean agreement, over
+// the candidate points within delta of the posed view, of their chromaticity with that of the
+// nearest view point (chromaticity_agreement()); 1 when either cloud has no colour.
+double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                        double delta);
+// Agreement of two colours in [0, 1]: a Gaussian of the distance between their chromaticities
+// (rgb / (r + g + b)), wider for dark colours, whose chromaticity is mostly sensor noise.
+// Chromaticity ignores brightness, so shading and exposure differences between the database and
+// the scene do not count, while hue and saturation do.
+double chromaticity_agreement(const Rgb& a, const Rgb& b);
+
+// Per point (sensor frame): whether the view, put in place by pose (candidate <- model), has a
+// point within delta of it; the points that eq. 4 counts as explained.
+std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cloud& view,
+                            const Eigen::Matrix4d& pose, double delta);
+
+}  // namespace proxseg

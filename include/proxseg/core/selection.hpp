@@ -1,0 +1,145 @@
+// Selection [paper 3.3]: labelled voxels -> clusters -> candidate objects.
+#pragma once
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/voxels.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace proxseg {
+
+struct SelectionParams {
+  // Weak connections [3.3]: a point is weak when the number of cluster points within
+  // density_radius is under weak_density_ratio times the cluster's median. On organized frames the
+  // count is scaled by the squared range first, since a sensor's sampling density falls as 1/z^2.
+  double density_radius = 0.005;  // metres
+  double weak_density_ratio = 0.25;
+  // Euclidean clustering of the remaining points [3.3]: points closer than this are connected.
+  double cluster_tolerance = 0.01;  // metres
+  int min_candidate_points = 300;   // smaller components are not candidates (paper preset: 500)
+  bool absorb_small = true;         // small components join their main large neighbour, else 0
+  // Convexity [extension, after Stein et al., LCCP]: voxel edges whose normals differ by more than
+  // the tolerance and turn towards each other are concave. split_concave cuts clusters there;
+  // merge_convex joins neighbouring components whose boundary is convex or flat (at most
+  // merge_max_concave_share of at least merge_min_boundary voxel edges concave).
+  double concavity_tolerance_deg = 10.0;
+  bool split_concave = true;
+  bool merge_convex = true;
+  double merge_max_concave_share = 0.25;
+  int merge_min_boundary = 3;
+  // Support plane [extension]: the dominant plane of voxels (same offset within
+  // background_plane_distance, normals within support_normal_tolerance_deg) is cut from the rest,
+  // so objects do not stay connected to the table they stand on.
+  bool cut_support_plane = true;
+  double support_normal_tolerance_deg = 20.0;
+  // Background: a large planar component that supports the objects (table, floor, wall) is
+  // reported, with its own instance id, but is not a candidate.
+  double background_min_area = 0.06;         // m^2, product of the two largest extents
+  double background_plane_distance = 0.015;  // metres from the component's best plane
+  double background_inlier_ratio = 0.85;     // share of points within that distance
+
+  // Where the geometry of the selection is computed [extension]. kVoxels: the voxel clusters of
+  // the paper's 3.3 (with the extensions above). kImage: on the image grid of organized frames
+  // (per-pixel normals, depth-step and concavity edges between pixels, connected components);
+  // unorganized frames always use kVoxels. docs/method.md, "Selection on the image grid".
+  enum class Geometry { kVoxels, kImage };
+  Geometry geometry = Geometry::kImage;
+  // kImage: pixel offset of the central differences (and box-filter size) of the normals.
+  int image_normal_step = 5;
+  // kImage: neighbouring pixels whose depths differ by more than this share of the depth lie on
+  // different surfaces (a depth-discontinuity edge).
+  double depth_step_ratio = 0.01;
+  // kImage: the concavity test compares the normals of the pixels concavity_step pixels to
+  // either side of a pixel (along rows, columns and both diagonals); a crease turns them by more
+  // than crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside
+  // of a mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
+  int concavity_step = 5;
+  double crease_tolerance_deg = 35.0;
+  // kImage: the support plane takes a pixel within plane_band_sigmas standard deviations of the
+  // sensor's depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and
+  // disparity steps), and with its normal within support_normal_tolerance_deg.
+  double sensor_noise_at_1m = 0.0025;  // metres
+  double plane_band_sigmas = 3.0;
+  double plane_band_min = 0.005;  // metres: the band is never narrower (surface roughness)
+  // kImage, with merge_convex: components merge across gaps and short depth steps where their
+  // points come within cluster_tolerance, linked by pixel pairs at most merge_window pixels
+  // apart: at least merge_min_links links, at most merge_max_concave_share of them concave.
+  // Rays across bands of missing pixels (bridge_window pixels at most) link components whose
+  // ends lie within bridge_tolerance. A merge also needs merge_min_agreement of the links to
+  // join pixels of the same segmentation label (colour and texture).
+  int merge_window = 3;
+  int merge_min_links = 20;
+  int bridge_window = 24;
+  double bridge_tolerance = 0.08;  // metres
+  double merge_min_agreement = 0.8;
+  // A component with at least island_missing_share of its border beside missing pixels joins the
+  // component it has the most rays to (at least merge_min_links).
+  double island_missing_share = 0.9;
+};
+
+// An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
+// the side lengths along them.
+struct OrientedBox {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
+};
+
+struct Candidate {
+  std::uint32_t instance = 0;  // id in the per-point instance field, 1..n
+  std::uint32_t label = 0;     // the segmentation label the component came from
+  std::vector<int> points;     // point indices, ascending
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  OrientedBox box;
+  bool background = false;  // a supporting plane, not a candidate object
+};
+
+struct Selection {
+  std::vector<std::uint32_t> instance;  // per point: 0 = invalid or unassigned, else 1..n
+  std::vector<Candidate> components;    // instance i is components[i - 1]
+  int clusters = 0;                     // connected same-label voxel sets before splitting
+  std::size_t weak_points = 0;          // points set aside as weak connections
+};
+
+// point_labels: per point, 0 = invalid, else the segmentation label (every point of a voxel has
+// its voxel's label). Instances are numbered by their smallest point index, so the numbering does
+// not depend on threads.
+Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
+                            const std::vector<std::uint32_t>& point_labels,
+                            const SelectionParams& params);
+
+// Selection on the image grid of an organized frame (SelectionParams::Geometry::kImage): the
+// support plane within the sensor's noise, then connected components of the remaining pixels
+// that no depth step or concave crease separates; small pieces join their main neighbour.
+// point_labels as for select_candidates. threads: 0 = all cores; the result does not depend on it.
+Selection select_candidates_on_grid(const Frame& frame,
+                                    const std::vector<std::uint32_t>& point_labels,
+                                    const SelectionParams& params, int threads = 0);
+
+// The same in two steps. The geometry needs only the frame, so segment() reads it while the
+// colour labels are computed: grid_surfaces() finds the normals, the support plane, the creases
+// and the surfaces (small pieces joined to their neighbour); select_on_grid() merges the
+// surfaces where the labels agree and forms the instances. select_candidates_on_grid() is
+// grid_surfaces() with labelled = (point_labels != 0), then select_on_grid().
+struct GridSurfaces {
+  std::vector<Eigen::Vector3f> normals;                     // per pixel, NaN where none
+  bool plane_found = false;                                 // whether a support plane was found
+  Eigen::Vector3f plane_normal = Eigen::Vector3f::UnitZ();  // plane: normal . x + offset = 0
+  float plane_offset = 0;
+  std::vector<char> in_plane;  // per pixel: in the support plane within the sensor's noise
+  std::vector<char> crease;    // per pixel: on a concave crease
+  std::vector<int> surface;    // per pixel: surface id 0..count-1, -2 the plane, -1 none
+  int count = 0;               // surfaces (connected components before any joining)
+};
+// labelled: per pixel, whether it takes part (valid and labelled).
+GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
+                           const SelectionParams& params, int threads = 0);
+Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
+                         const std::vector<std::uint32_t>& point_labels,
+                         const SelectionParams& params, int threads = 0);
+
+// The oriented bounding box of a set of points (principal axes).
+OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points);
+
+}  // namespace proxseg

@@ -1,0 +1,62 @@
+// Readers and writers for frames: PCD (ascii, binary, binary_compressed), PLY, colour + depth PNG.
+#pragma once
+#include <proxseg/core/frame.hpp>
+#include <proxseg/core/mesh.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace proxseg {
+
+// Pinhole intrinsics of a depth camera. depth_scale = depth units per metre
+// (metres = value / depth_scale; 1000 for millimetre PNGs, YCB-Video's factor_depth = 10000).
+struct Intrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  double depth_scale = 1000.0;
+};
+
+// PCD with fields x y z and rgb or rgba (any order, extra fields ignored); an optional
+// integer `label` field (or the field named label_field, e.g. "instance") is kept in
+// Frame::label. WIDTH/HEIGHT come from the header.
+Frame read_pcd(const std::string& path, const std::string& label_field = "label");
+// PLY point cloud or mesh vertices with colours (unorganized: height 1).
+Frame read_ply(const std::string& path);
+// Dispatches on the extension (.pcd, .ply).
+Frame read_point_cloud(const std::string& path);
+// A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models); coordinates are
+// multiplied by scale (0.001 for millimetre models) so that the mesh is in metres.
+Mesh read_mesh(const std::string& path, double scale = 1.0);
+// Plain "x y z" lines (YCB-Video models/points.xyz), metres; '#' comments and blank lines skipped.
+std::vector<Eigen::Vector3d> read_xyz(const std::string& path);
+
+// {"fx":..,"fy":..,"cx":..,"cy":..,"depth_scale":..}
+Intrinsics read_intrinsics(const std::string& path);
+// YCB-Video meta JSON: intrinsic_matrix (3x3) and factor_depth.
+Intrinsics read_ycb_meta(const std::string& path);
+// 8-bit colour PNG/JPG + 16-bit depth PNG of the same size -> organized frame; depth 0 = invalid.
+Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k);
+
+// An 8-bit one-channel label image (PNG) of exactly width x height pixels, row-major values
+// (YCB-Video -label.png). InputError naming the file otherwise.
+std::vector<std::uint8_t> read_label_image(const std::string& path, int width, int height);
+
+// One extra per-point unsigned field written after x y z rgb (e.g. "label", "instance").
+struct PointField {
+  std::string name;
+  std::vector<std::uint32_t> values;  // one per point
+};
+// A binary PCD (organized if the frame is) with fields x y z rgb and the extra fields, in memory.
+std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields);
+// Writes pcd_bytes to path. Atomic: the file appears whole or not at all.
+void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields);
+
+// Writes bytes to path through a temporary file in the same directory and a rename.
+void write_file_atomic(const std::string& path, const std::string& bytes);
+// Writes a set of files (path, bytes) that belong together: every one to its temporary file
+// first, then all renamed into place. A failure (InputError naming the file) removes the
+// temporary files and whatever new file was already in place, so the set is never left half new;
+// files of an earlier run that were not yet replaced stay as they were.
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
+
+}  // namespace proxseg

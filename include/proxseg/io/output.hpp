@@ -1,0 +1,67 @@
+// Segmentation and recognition outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written
+// atomically).
+#pragma once
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// What made a report: {"version": PROXSEG_VERSION, "commit": git_commit()}; every JSON report
+// of the CLI carries it under "proxseg", beside its parameters.
+nlohmann::json build_info();
+
+// The report written to PREFIX.json: proxseg's build_info, parameters, stage times, counts,
+// energies, label sizes.
+nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
+                                   const SegmentResult& result);
+// A picture of the labels: the colour image with labels blended in and boundaries drawn
+// (organized input), or the points rendered from the sensor origin (unorganized input). PNG bytes.
+std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
+// Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all. Returns the
+// report written to PREFIX.json.
+nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
+                                  const SegmentParams& params, const SegmentResult& result);
+
+// Writes one unorganized PCD (x y z rgb) per candidate object (not the background) to
+// DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the paths written.
+std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
+                                          const SegmentResult& result);
+
+// ---- Recognition outputs (proxseg recognize): the objects of recognize_scene() or the one of
+// recognize_object() ----
+
+// One candidate's entry of PREFIX.json: name, fitness, coverage, score, pose (4x4 rows,
+// candidate frame <- model frame), the view, the runner-up and times.
+nlohmann::json recognition_json(const SceneObject& object, const Database& db);
+// PREFIX.json's "candidates": recognition_json of each object and its "colour" [r, g, b] in
+// PREFIX.png, so that a program can match the report to the picture too.
+nlohmann::json recognition_candidates_json(const std::vector<SceneObject>& objects,
+                                           const Database& db);
+// The colour of each object in PREFIX.png, in order. Named objects take a fixed palette of 30
+// colours (10 hues x bright, dark and pale; neighbouring ids far apart in hue), unknown ones grey
+// shades (32), each in id order; past that the colours repeat (the ids drawn on the objects still
+// tell them apart). Depends only on the objects' order and names: the same scene, the same colours.
+std::vector<Rgb> recognition_colours(const std::vector<SceneObject>& objects);
+// PREFIX.pcd's field `object`: per frame point the id of the object that holds it, 0 for none.
+// std::invalid_argument if a point index is outside the frame or two objects hold one point.
+std::vector<std::uint32_t> recognition_labels(const Frame& frame,
+                                              const std::vector<SceneObject>& objects);
+// The scene with every object in its colour (its frame points tinted and outlined, a named
+// object's aligned model view drawn over it) and its id at its centroid (organized input: over
+// the colour image, frame size; unorganized input: the points seen from the sensor, 640x480),
+// beside a legend on the right: per object its colour swatch, id, name and best score, in
+// report order (more columns when they do not fit the height). PNG bytes.
+std::string recognition_image_png(const Frame& frame, const std::vector<SceneObject>& objects,
+                                  const Database& db);
+// Writes PREFIX.json (the report with "picture", and for a scene "labels", added), PREFIX.png and
+// for a scene PREFIX.pcd (the frame with field `object` = recognition_labels). All three are made
+// in memory and written with write_files_atomic: all or none. Returns the report written.
+nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
+                                 const std::vector<SceneObject>& objects, const Database& db,
+                                 nlohmann::json report, bool scene);
+
+}  // namespace proxseg

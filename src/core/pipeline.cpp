@@ -1,0 +1,157 @@
+// segment(): the paper's sections 3.1-3.3, top to bottom.
+#include <proxseg/core/pipeline.hpp>
+
+#include "util/run_beside.hpp"
+#include "util/stopwatch.hpp"
+
+#include <open3d/geometry/KDTreeFlann.h>
+
+#include <omp.h>
+
+namespace proxseg {
+namespace {
+
+// The clustered voxel whose label each voxel takes: its own index in `clustered` if it was
+// clustered, else the nearest clustered voxel by voxel centroid; -1 if there is none.
+std::vector<int> label_sources(const Frame& frame, const VoxelGrid& grid,
+                               const std::vector<int>& clustered) {
+  std::vector<int> source(grid.size(), -1);
+  for (std::size_t i = 0; i < clustered.size(); ++i) source[clustered[i]] = static_cast<int>(i);
+  if (clustered.size() < grid.size() && !clustered.empty()) {
+    auto centroid = [&](int v) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int p : grid.points[v]) c += frame.xyz[p].cast<double>();
+      return Eigen::Vector3d(c / static_cast<double>(grid.points[v].size()));
+    };
+    Eigen::MatrixXd centres(3, clustered.size());
+    for (std::size_t i = 0; i < clustered.size(); ++i) centres.col(i) = centroid(clustered[i]);
+    open3d::geometry::KDTreeFlann tree(centres);
+    std::vector<int> index(1);
+    std::vector<double> dist2(1);
+    for (std::size_t v = 0; v < grid.size(); ++v)
+      if (source[v] < 0 && tree.SearchKNN(centroid(static_cast<int>(v)), 1, index, dist2) == 1)
+        source[v] = index[0];
+  }
+  return source;
+}
+
+// Whether each point has a voxel: exactly the points that get a label in step 6.
+std::vector<char> voxelised(const VoxelGrid& grid) {
+  std::vector<char> out(grid.voxel_of_point.size());
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = grid.voxel_of_point[p] >= 0;
+  return out;
+}
+
+// Every valid point takes the label of its voxel's source (label_sources): 1..k, 0 for invalid
+// points.
+std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& grid,
+                                        const std::vector<int>& source,
+                                        const std::vector<int>& labels) {
+  std::vector<std::uint32_t> out(frame.size(), 0);
+  for (std::size_t p = 0; p < frame.size(); ++p) {
+    const int v = grid.voxel_of_point[p];
+    if (v >= 0 && source[v] >= 0) out[p] = static_cast<std::uint32_t>(labels[source[v]] + 1);
+  }
+  return out;
+}
+
+}  // namespace
+
+SegmentResult segment(const Frame& frame, const SegmentParams& params) {
+  validate(params);
+  SegmentResult r;
+  detail::Stopwatch watch, whole;
+
+  // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
+  r.voxels = build_voxels(frame, params.voxels.voxel_size);
+  if (r.voxels.size() == 0) throw InputError("frame: no valid points to segment");
+  r.clustered = dense_voxels(r.voxels, params.voxels.min_points_per_voxel);
+  if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
+  const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
+  r.times_ms.emplace_back("voxels", watch.lap());
+
+  // 2. Features [3.1]: colour | texture | shape per voxel.
+  r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
+  r.times_ms.emplace_back("features", watch.lap());
+
+  // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
+  // The block weights were applied by voxel_features; balancing re-applies them after equalising.
+  if (params.clustering.balance_blocks) {
+    const FeatureParams& fp = params.features;
+    balance_blocks(r.features, {{0, kColourDims, fp.colour_weight},
+                                {kColourDims, kTextureDims, fp.texture_weight},
+                                {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
+  }
+  r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
+                           params.clustering.pca_solver);
+
+  // The image-grid geometry of the selection (7) needs only the frame: with a second thread it is
+  // read beside stages 3-6's colour labels (after the features and the principal axes, which use
+  // every thread themselves).
+  const bool on_grid =
+      params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
+  const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  const bool beside = on_grid && nthreads > 1;
+  GridSurfaces surfaces;
+  double surfaces_ms = 0;
+  auto read_geometry = [&] {
+    detail::Stopwatch own;
+    surfaces = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
+    surfaces_ms = own.lap();
+  };
+  auto colour_labels = [&] {
+    const Eigen::MatrixXd x = project(r.space, r.features);
+    r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
+    r.times_ms.emplace_back("initial_clustering", watch.lap());
+
+    // 4. k-means [3.2] from Algorithm 1's centroids.
+    Eigen::MatrixXd start(r.initial_centroids.size(), x.cols());
+    for (std::size_t s = 0; s < r.initial_centroids.size(); ++s)
+      start.row(s) = r.initial_centroids[s].mu.transpose();
+    KMeansResult km = kmeans(x, start, params.kmeans);
+    r.centroids = km.centroids;
+    r.labels_kmeans = km.labels;
+    r.kmeans_iterations = km.iterations;
+    r.times_ms.emplace_back("kmeans", watch.lap());
+
+    // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
+    MrfProblem problem{unary_potentials(x, r.centroids, params.mrf.unary_weight), edge_list(graph),
+                       params.mrf.pairwise_weight};
+    r.labels = r.labels_kmeans;
+    r.energy_before = r.energy_after = energy(problem, r.labels);
+    if (params.mrf.enabled && r.k() > 1) {
+      const MrfResult mrf = params.mrf.method == MrfMethod::kSwap
+                                ? alpha_beta_swap(problem, r.labels, params.mrf.max_cycles)
+                                : alpha_expansion(problem, r.labels, params.mrf.max_cycles);
+      r.labels = mrf.labels;
+      r.energy_after = mrf.energy_after;
+      r.mrf_cycles = mrf.cycles;
+    }
+    r.times_ms.emplace_back("mrf", watch.lap());
+
+    // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
+    const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
+    r.point_labels = label_points(frame, r.voxels, source, r.labels);
+    r.point_labels_kmeans = params.mrf.enabled
+                                ? label_points(frame, r.voxels, source, r.labels_kmeans)
+                                : r.point_labels;
+    r.times_ms.emplace_back("point_labels", watch.lap());
+  };
+  if (beside)
+    detail::run_beside(true, colour_labels, read_geometry);
+  else
+    colour_labels();
+
+  // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
+  // organized frame by default the geometry is read on the image grid instead of the voxels.
+  if (on_grid && !beside) read_geometry();
+  r.selection = on_grid ? select_on_grid(frame, std::move(surfaces), r.point_labels,
+                                         params.selection, params.threads)
+                        : select_candidates(frame, r.voxels, r.point_labels, params.selection);
+  r.times_ms.emplace_back("selection", watch.lap());
+  if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);
+  r.total_ms = whole.lap();
+  return r;
+}
+
+}  // namespace proxseg

@@ -1,0 +1,5 @@
+#include <proxseg/core/version.hpp>
+
+const char* proxseg::version() {
+  return PROXSEG_VERSION;
+}

@@ -1,0 +1,459 @@
+// End-to-end scene recognition evaluation: the catalogue, the scene set and the scoring
+// (scene_eval.hpp).
+#include <proxseg/core/colour.hpp>
+#include <proxseg/eval/rec_eval.hpp>
+#include <proxseg/eval/scene_eval.hpp>
+#include <proxseg/io/cloud_io.hpp>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <numeric>
+
+namespace proxseg {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kCell = 0.004;  // primitives' tessellation: the generator's (4 mm)
+
+using Col = Eigen::Vector3d;  // 0..255 per channel
+
+// The mesh with every colour's hue turned so that the mesh's dominant hue (circular mean,
+// weighted by saturation x value: greys have no say) becomes `hue`; saturation and value kept,
+// so that shading and texture stay and only the colour differs.
+Mesh hue_turned(Mesh m, double hue) {
+  double sx = 0, sy = 0;
+  for (const Rgb& c : m.colours) {
+    const Eigen::Vector3d hsv = rgb_to_hsv(c);
+    sx += hsv[1] * hsv[2] * std::cos(2 * kPi * hsv[0]);
+    sy += hsv[1] * hsv[2] * std::sin(2 * kPi * hsv[0]);
+  }
+  const double mean = std::atan2(sy, sx) / (2 * kPi);
+  for (Rgb& c : m.colours) {
+    Eigen::Vector3d hsv = rgb_to_hsv(c);
+    hsv[0] += hue - mean;
+    c = to_rgb8(hsv_to_rgb(hsv));
+  }
+  return m;
+}
+
+// A marker (cylinder along z, cap end at +z): body colour with a light printed band around it
+// and a ring at the cap's edge, so that it is not one flat colour.
+ColourFn marker_colours(const Col& body) {
+  return [body](const Eigen::Vector3d& p) {
+    const Col light(235, 233, 225);
+    if (p.z() > -0.035 && p.z() < 0.015) return to_rgb8(light);  // the label band
+    if (p.z() > 0.035 && p.z() < 0.04) return to_rgb8(light);    // the cap's ring
+    return to_rgb8(body);
+  };
+}
+
+// A box (z up, extents size): body colour with a band of `band` around its sides and a lid of
+// the band's colour.
+ColourFn box_colours(const Col& body, const Col& band, const Eigen::Vector3d& size) {
+  return [=](const Eigen::Vector3d& p) {
+    if (p.z() > size.z() / 2 - 1e-6) return to_rgb8(band);                         // lid
+    if (std::abs(p.z() - 0.1 * size.z()) < 0.15 * size.z()) return to_rgb8(band);  // band
+    return to_rgb8(body);
+  };
+}
+
+CatalogueObject entry(const std::string& name, ClutterKind kind, Mesh mesh, bool convex,
+                      bool lies = false) {
+  CatalogueObject o;
+  o.name = name;
+  o.kind = kind;
+  o.mesh = std::move(mesh);
+  o.convex = convex;
+  o.lies = lies;
+  return o;
+}
+
+// Largest distance between two points: pairs are visited in decreasing order of the sum of
+// their distances to the centroid, which bounds their distance, so most are never visited.
+double diameter(const std::vector<Eigen::Vector3d>& pts) {
+  if (pts.size() < 2) return 0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  std::vector<std::pair<double, std::size_t>> r(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) r[i] = {(pts[i] - c).norm(), i};
+  std::sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  double best = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (2 * r[i].first <= best) break;
+    for (std::size_t j = i + 1; j < r.size(); ++j) {
+      if (r[i].first + r[j].first <= best) break;
+      best = std::max(best, (pts[r[i].second] - pts[r[j].second]).norm());
+    }
+  }
+  return best;
+}
+
+// At most n of the points, evenly spaced in their order.
+std::vector<Eigen::Vector3d> evenly(const std::vector<Eigen::Vector3d>& pts, int n) {
+  if (n <= 0 || static_cast<int>(pts.size()) <= n) return pts;
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(n);
+  for (int i = 0; i < n; ++i) out.push_back(pts[i * pts.size() / n]);
+  return out;
+}
+
+bool is_named(const std::string& name) {
+  return !name.empty() && name != "unknown";
+}
+
+}  // namespace
+
+SceneCatalogue scene_catalogue(const std::string& models_dir) {
+  namespace fs = std::filesystem;
+  const auto linemod = [&](const char* id) {
+    const fs::path path = fs::path(models_dir) / (std::string(id) + ".ply");
+    if (!fs::is_regular_file(path))
+      throw InputError(path.string() + ": missing (the scene catalogue needs the LINEMOD mesh)");
+    return read_mesh(path.string(), 0.001);
+  };
+  SceneCatalogue c;
+  const Mesh ape = linemod("obj_000001"), duck = linemod("obj_000009");
+  // Known: six LINEMOD objects, two look-alikes in another colour, two markers, two boxes.
+  c.entries.push_back(entry("ape", ClutterKind::mesh, ape, false));
+  c.entries.push_back(entry("can", ClutterKind::mesh, linemod("obj_000005"), false));
+  c.entries.push_back(entry("cat", ClutterKind::mesh, linemod("obj_000006"), false));
+  c.entries.push_back(entry("driller", ClutterKind::mesh, linemod("obj_000008"), false));
+  c.entries.push_back(entry("duck", ClutterKind::mesh, duck, false));
+  c.entries.push_back(entry("eggbox", ClutterKind::mesh, linemod("obj_000010"), false));
+  c.entries.push_back(entry("duck-blue", ClutterKind::mesh, hue_turned(duck, 0.62), false));
+  c.entries.push_back(entry("ape-green", ClutterKind::mesh, hue_turned(ape, 0.33), false));
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const double marker_r = 0.0125, marker_h = 0.13;
+  c.entries.push_back(entry(
+      "marker-red", ClutterKind::cylinder,
+      make_cylinder(I, marker_r, marker_h, marker_colours({200, 30, 35}), kCell), true, true));
+  c.entries.push_back(
+      entry("marker-black", ClutterKind::cylinder,
+            make_cylinder(I, marker_r, marker_h, marker_colours({30, 30, 34}), kCell), true, true));
+  const Eigen::Vector3d tea(0.07, 0.07, 0.14), rice(0.08, 0.06, 0.16);
+  c.entries.push_back(
+      entry("box-tea", ClutterKind::box,
+            make_box(I, tea, box_colours({190, 30, 30}, {240, 238, 230}, tea), kCell), true));
+  c.entries.push_back(
+      entry("box-rice", ClutterKind::box,
+            make_box(I, rice, box_colours({225, 190, 40}, {110, 70, 35}, rice), kCell), true));
+  c.known.assign(c.entries.size(), 1);
+  // Unknown: never in the database.
+  c.entries.push_back(entry("glue", ClutterKind::mesh, linemod("obj_000011"), false));
+  c.entries.push_back(entry("holepuncher", ClutterKind::mesh, linemod("obj_000012"), false));
+  c.known.resize(c.entries.size(), 0);
+  for (const CatalogueObject& e : c.entries) {
+    std::vector<Eigen::Vector3d> pts;
+    pts.reserve(e.mesh.vertices.size());
+    for (const auto& v : e.mesh.vertices) pts.push_back(v.cast<double>());
+    c.diameters.push_back(diameter(pts));
+    c.model_points.push_back(std::move(pts));
+  }
+  return c;
+}
+
+int catalogue_index(const SceneCatalogue& catalogue, const std::string& name) {
+  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+    if (catalogue.entries[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Database scene_database(const SceneCatalogue& catalogue, int views,
+                        const DescriptorParams& descriptor, const std::string& dir) {
+  std::vector<TestObject> objects;
+  for (std::size_t i = 0; i < catalogue.entries.size(); ++i) {
+    if (!catalogue.known[i]) continue;
+    TestObject o;
+    o.name = catalogue.entries[i].name;
+    o.file = o.name;  // the views' source: "duck-blue view 3/8"
+    o.mesh = catalogue.entries[i].mesh;
+    objects.push_back(std::move(o));
+  }
+  return render_database(objects, views, descriptor, dir);
+}
+
+std::vector<std::uint32_t> seed_range(std::uint32_t first, int count) {
+  std::vector<std::uint32_t> seeds;
+  for (int i = 0; i < count; ++i) seeds.push_back(first + static_cast<std::uint32_t>(i));
+  return seeds;
+}
+
+ClutterParams scene_set_params(std::uint32_t seed, const SceneCatalogue& catalogue,
+                               const SceneSetParams& params) {
+  ClutterParams p;
+  p.seed = seed;
+  p.min_objects = params.min_objects;
+  p.max_objects = params.max_objects;
+  p.mesh_share = params.mesh_share;
+  p.catalogue = catalogue.entries;
+  p.catalogue_share = params.catalogue_share;
+  return p;
+}
+
+std::vector<TruthObject> scene_truth(const ClutterScene& scene, const SceneCatalogue& catalogue) {
+  std::vector<TruthObject> truth;
+  for (const ClutterObject& o : scene.objects) {
+    TruthObject t;
+    t.label = o.label;
+    t.name = o.name;
+    t.catalogue = o.catalogue;
+    t.known = o.catalogue >= 0 && static_cast<std::size_t>(o.catalogue) < catalogue.known.size() &&
+              catalogue.known[o.catalogue];
+    t.camera_from_model = (scene.render.camera_from_world * o.world_from_object).matrix();
+    truth.push_back(std::move(t));
+  }
+  const Frame& f = scene.frame;
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    if (!f.valid(k)) continue;
+    const std::uint32_t l = f.label[k];  // 10 * (i + 2) for object i
+    if (l >= 20 && l % 10 == 0 && l / 10 - 2 < truth.size())
+      truth[l / 10 - 2].points.push_back(static_cast<int>(k));
+  }
+  return truth;
+}
+
+std::vector<Prediction> predictions_of(const std::vector<SceneObject>& objects) {
+  std::vector<Prediction> out;
+  for (const SceneObject& o : objects) {
+    Prediction p;
+    p.points = o.points;
+    p.name = o.recognition.name;
+    p.best = o.recognition.best.object;
+    p.score = o.recognition.best.score;
+    p.runner_up = o.recognition.runner_up.view >= 0 ? o.recognition.runner_up.score : 0;
+    p.colour =
+        o.recognition.best.view >= 0 && o.recognition.alignments[o.recognition.best.view].coloured
+            ? o.recognition.best.colour
+            : -1;
+    p.pose = o.recognition.best.pose;
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+std::vector<int> max_weight_assignment(const Eigen::MatrixXd& weight) {
+  const int rows = static_cast<int>(weight.rows()), cols = static_cast<int>(weight.cols());
+  std::vector<int> out(rows, -1);
+  if (rows == 0 || cols == 0) return out;
+  // The Hungarian method with potentials needs rows <= columns: solve the transpose otherwise.
+  const bool flip = rows > cols;
+  const Eigen::MatrixXd w = flip ? Eigen::MatrixXd(weight.transpose()) : weight;
+  const int n = static_cast<int>(w.rows()), m = static_cast<int>(w.cols());
+  // Minimum cost on -w; 1-based, column 0 is the virtual start of each augmenting path.
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> u(n + 1, 0), v(m + 1, 0);
+  std::vector<int> p(m + 1, 0), way(m + 1, 0);
+  for (int i = 1; i <= n; ++i) {
+    p[0] = i;
+    int j0 = 0;
+    std::vector<double> minv(m + 1, inf);
+    std::vector<char> used(m + 1, 0);
+    do {
+      used[j0] = 1;
+      const int i0 = p[j0];
+      double delta = inf;
+      int j1 = 0;
+      for (int j = 1; j <= m; ++j) {
+        if (used[j]) continue;
+        const double cur = -w(i0 - 1, j - 1) - u[i0] - v[j];
+        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
+        if (minv[j] < delta) delta = minv[j], j1 = j;
+      }
+      for (int j = 0; j <= m; ++j) {
+        if (used[j]) {
+          u[p[j]] += delta;
+          v[j] -= delta;
+        } else {
+          minv[j] -= delta;
+        }
+      }
+      j0 = j1;
+    } while (p[j0] != 0);
+    do {
+      const int j1 = way[j0];
+      p[j0] = p[j1];
+      j0 = j1;
+    } while (j0 != 0);
+  }
+  for (int j = 1; j <= m; ++j) {
+    if (p[j] == 0 || !(w(p[j] - 1, j - 1) > 0)) continue;  // weight 0: no pair
+    if (flip)
+      out[j - 1] = p[j] - 1;
+    else
+      out[p[j] - 1] = j - 1;
+  }
+  return out;
+}
+
+double point_iou(const std::vector<int>& a, const std::vector<int>& b) {
+  std::size_t i = 0, j = 0, both = 0;
+  while (i < a.size() && j < b.size()) {
+    if (a[i] < b[j])
+      ++i;
+    else if (b[j] < a[i])
+      ++j;
+    else
+      ++both, ++i, ++j;
+  }
+  const std::size_t either = a.size() + b.size() - both;
+  return either ? double(both) / double(either) : 0;
+}
+
+std::vector<int> match_objects(const std::vector<TruthObject>& truth,
+                               const std::vector<Prediction>& predictions, double min_iou,
+                               std::vector<double>* iou) {
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(truth.size(), predictions.size());
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    for (std::size_t j = 0; j < predictions.size(); ++j) {
+      const double x = point_iou(truth[i].points, predictions[j].points);
+      if (x >= min_iou && x > 0) w(i, j) = x;  // pairs under min_iou may not be matched at all
+    }
+  const std::vector<int> match = max_weight_assignment(w);
+  if (iou) {
+    iou->assign(truth.size(), 0);
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      if (match[i] >= 0) (*iou)[i] = w(i, match[i]);
+  }
+  return match;
+}
+
+double add_s(const std::vector<Eigen::Vector3d>& model, const Eigen::Matrix4d& estimate,
+             const Eigen::Matrix4d& truth) {
+  if (model.empty()) return 0;
+  const Eigen::Affine3d E(estimate), T(truth);
+  std::vector<Eigen::Vector3d> placed(model.size());
+  for (std::size_t i = 0; i < model.size(); ++i) placed[i] = E * model[i];
+  double sum = 0;
+  for (const auto& m : model) {
+    const Eigen::Vector3d t = T * m;
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& q : placed) best = std::min(best, (q - t).squaredNorm());
+    sum += std::sqrt(best);
+  }
+  return sum / static_cast<double>(model.size());
+}
+
+SceneCounts& SceneCounts::operator+=(const SceneCounts& o) {
+  scenes += o.scenes;
+  truths += o.truths;
+  known += o.known;
+  unknown += o.unknown;
+  predictions += o.predictions;
+  detected += o.detected;
+  tp += o.tp;
+  fn += o.fn;
+  fp += o.fp;
+  unknown_named += o.unknown_named;
+  pose_ok += o.pose_ok;
+  seconds += o.seconds;
+  return *this;
+}
+
+SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObject>& truth,
+                               const std::vector<Prediction>& predictions,
+                               const SceneCatalogue& catalogue, const SceneEvalParams& params) {
+  SceneEvaluation e;
+  std::vector<double> iou;
+  e.match = match_objects(truth, predictions, params.min_iou, &iou);
+  SceneCounts& c = e.counts;
+  c.scenes = 1;
+  c.truths = static_cast<int>(truth.size());
+  c.predictions = static_cast<int>(predictions.size());
+  e.rows.resize(predictions.size());
+  for (std::size_t j = 0; j < predictions.size(); ++j) {
+    PredictionRow& r = e.rows[j];
+    const Prediction& p = predictions[j];
+    r.scene = scene;
+    r.prediction = static_cast<int>(j);
+    r.name = p.name;
+    r.best = p.best;
+    r.score = p.score;
+    r.runner_up = p.runner_up;
+    r.colour = p.colour;
+  }
+  std::vector<char> tp(predictions.size(), 0);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const TruthObject& t = truth[i];
+    (t.known ? c.known : c.unknown) += 1;
+    const int m = e.match[i];
+    if (m < 0) {
+      c.fn += t.known;
+      continue;
+    }
+    ++c.detected;
+    PredictionRow& r = e.rows[m];
+    r.truth = static_cast<int>(i);
+    r.truth_name = t.name;
+    r.truth_known = t.known;
+    r.iou = iou[i];
+    const Prediction& p = predictions[m];
+    if (!t.known) {
+      c.unknown_named += is_named(p.name);
+      continue;
+    }
+    if (p.name != t.name) {
+      ++c.fn;
+      continue;
+    }
+    ++c.tp;
+    tp[m] = 1;
+    const std::size_t k = static_cast<std::size_t>(t.catalogue);
+    r.add_s = add_s(evenly(catalogue.model_points.at(k), params.max_model_points), p.pose,
+                    t.camera_from_model);
+    r.pose_ok = r.add_s < params.pose_share * catalogue.diameters.at(k);
+    c.pose_ok += r.pose_ok;
+  }
+  for (std::size_t j = 0; j < predictions.size(); ++j)
+    c.fp += is_named(predictions[j].name) && !tp[j];
+  return e;
+}
+
+SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
+                            double min_score, double min_margin, double confident_score) {
+  SceneCurvePoint p;
+  p.min_score = min_score;
+  for (const PredictionRow& r : rows) {
+    const bool clear = r.score - r.runner_up >= min_margin || r.score >= confident_score;
+    if (r.best.empty() || r.score < min_score || !clear) continue;  // "unknown" at this threshold
+    const bool right = r.truth >= 0 && r.truth_known && r.best == r.truth_name;
+    (right ? p.tp : p.fp) += 1;
+    p.unknown_named += r.truth >= 0 && !r.truth_known;
+  }
+  p.tpr = known ? double(p.tp) / known : 0;
+  p.unknown_named_share = unknown ? double(p.unknown_named) / unknown : 0;
+  p.precision = p.tp + p.fp ? double(p.tp) / (p.tp + p.fp) : 1;
+  p.f1 = p.precision + p.tpr > 0 && p.tp > 0 ? 2 * p.precision * p.tpr / (p.precision + p.tpr) : 0;
+  return p;
+}
+
+std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
+                                         int unknown, double min_margin, double confident_score) {
+  std::vector<double> scores;
+  for (const PredictionRow& r : rows)
+    if (!r.best.empty()) scores.push_back(r.score);
+  std::sort(scores.begin(), scores.end(), std::greater<double>());
+  scores.erase(std::unique(scores.begin(), scores.end()), scores.end());
+  std::vector<SceneCurvePoint> curve = {scene_point(rows, known, unknown,
+                                                    scores.empty() ? 1.0 : scores.front() + 1e-9,
+                                                    min_margin, confident_score)};
+  for (double s : scores)
+    curve.push_back(scene_point(rows, known, unknown, s, min_margin, confident_score));
+  return curve;
+}
+
+SceneCurvePoint best_threshold(const std::vector<SceneCurvePoint>& curve,
+                               double max_unknown_named) {
+  const SceneCurvePoint* best = nullptr;
+  for (const SceneCurvePoint& p : curve)
+    if (p.unknown_named_share <= max_unknown_named && (!best || p.f1 > best->f1)) best = &p;
+  if (best) return *best;
+  return curve.empty() ? SceneCurvePoint{} : curve.front();
+}
+
+}  // namespace proxseg

@@ -1,5 +1,0 @@
-#include <proxseg/version.hpp>
-
-const char* proxseg::version() {
-  return PROXSEG_VERSION;
-}

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The dependency direction of proxseg's parts: core -> io -> eval (CMakeLists.txt). Fails, naming
+# file and line, when a header or source of a part includes a header of a later part, when a
+# private helper in src/util/ includes any proxseg header, or when a source reaches into another
+# part's private files with a relative include.
+# Usage: tests/check_layering.sh [ROOT]   (ROOT: the source tree, default this script's parent)
+set -euo pipefail
+root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
+cd "$root"
+
+# The parts, in order; a part may include its own headers and those of the parts before it.
+parts=(core io eval)
+bad=0
+allowed() {  # PART -> the parts it may include, as an alternation for grep -E
+  local out=""
+  for p in "${parts[@]}"; do
+    out+="${out:+|}$p"
+    [[ $p == "$1" ]] && break
+  done
+  echo "$out"
+}
+
+for part in "${parts[@]}"; do
+  ok=$(allowed "$part")
+  for f in $(find "include/proxseg/$part" "src/$part" -name '*.hpp' -o -name '*.cpp' -o -name '*.hpp.in' 2>/dev/null | sort); do
+    # <proxseg/PART/...> of a later part.
+    while IFS=: read -r line text; do
+      echo "$f:$line: $part includes a later part: $text" >&2
+      bad=1
+    done < <(grep -nE '^\s*#\s*include\s*<proxseg/' "$f" | grep -vE "<proxseg/($ok)/" || true)
+    # "..." includes: only the part's own private files and src/util/.
+    while IFS=: read -r line text; do
+      echo "$f:$line: $part includes another part's private file: $text" >&2
+      bad=1
+    done < <(grep -nE '^\s*#\s*include\s*"' "$f" | grep -E '"[^"]*/' | grep -vE '"util/[a-z_]+\.hpp"' || true)
+  done
+done
+
+# Private helpers shared by all parts depend on none of them.
+for f in $(find src/util -name '*.hpp' 2>/dev/null | sort); do
+  while IFS=: read -r line text; do
+    echo "$f:$line: a src/util helper includes a proxseg header: $text" >&2
+    bad=1
+  done < <(grep -nE '^\s*#\s*include\s*(<proxseg/|")' "$f" || true)
+done
+
+if ((bad)); then
+  echo "check_layering: the dependency direction core -> io -> eval is broken (see above)" >&2
+  exit 1
+fi
+echo "check_layering: core -> io -> eval holds ($(find include/proxseg src -name '*.[ch]pp' | wc -l) files)"
