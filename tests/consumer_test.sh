@@ -2,6 +2,9 @@
 # Uses proxseg as a user does (README, Library).
 #   consumer_test.sh install BUILD_DIR PREFIX
 #     installs the build tree into PREFIX (emptied first);
+#   consumer_test.sh headers PREFIX
+#     compiles every installed header on its own, and checks that core's name no third-party
+#     library but Eigen (README, Library: io and eval add nlohmann-json);
 #   consumer_test.sh cmake|pkg-config PREFIX SOURCE_DIR SCENE.pcd
 #     builds examples/segment_scene.cpp against the installed files only, with
 #     find_package(proxseg) or with pkg-config, runs it on a real scene, and checks that it writes
@@ -15,6 +18,26 @@ case $mode in
     rm -rf "$prefix"
     cmake --install "$build" --prefix "$prefix" >/dev/null
     echo "consumer: installed into $prefix"
+    exit 0
+    ;;
+  headers)
+    prefix=$2
+    work=$(mktemp -d)
+    trap 'rm -rf "$work"' EXIT
+    eigen=$(pkg-config --cflags eigen3)
+    count=0
+    for h in $(cd "$prefix/include" && find proxseg -name '*.hpp' | sort); do
+      echo "#include <$h>" >"$work/one.cpp"
+      # shellcheck disable=SC2086  # the flags are separate words
+      g++ -std=c++17 -fsyntax-only -I"$prefix/include" $eigen "$work/one.cpp"
+      count=$((count + 1))
+    done
+    if grep -E '^#include <' "$prefix"/include/proxseg/core/*.hpp |
+      grep -vE '<(proxseg/core/|Eigen/)|<[a-z_]+>'; then
+      echo "consumer: core headers may include only core, Eigen and standard headers" >&2
+      exit 1
+    fi
+    echo "consumer: $count installed headers compile on their own (core with Eigen only)"
     exit 0
     ;;
   cmake | pkg-config) prefix=$2 src=$3 scene=$4 ;;
