@@ -22,27 +22,26 @@ allowed() {  # PART -> the parts it may include, as an alternation for grep -E
 
 for part in "${parts[@]}"; do
   ok=$(allowed "$part")
-  for f in $(find "include/proxseg/$part" "src/$part" -name '*.hpp' -o -name '*.cpp' -o -name '*.hpp.in' 2>/dev/null | sort); do
-    # <proxseg/PART/...> of a later part.
-    while IFS=: read -r line text; do
-      echo "$f:$line: $part includes a later part: $text" >&2
-      bad=1
-    done < <(grep -nE '^\s*#\s*include\s*<proxseg/' "$f" | grep -vE "<proxseg/($ok)/" || true)
-    # "..." includes: only the part's own private files and src/util/.
-    while IFS=: read -r line text; do
-      echo "$f:$line: $part includes another part's private file: $text" >&2
-      bad=1
-    done < <(grep -nE '^\s*#\s*include\s*"' "$f" | grep -E '"[^"]*/' | grep -vE '"util/[a-z_]+\.hpp"' || true)
-  done
+  mapfile -t files < <(find "include/proxseg/$part" "src/$part" \( -name '*.hpp' -o -name '*.cpp' \
+    -o -name '*.hpp.in' \) 2>/dev/null | sort)
+  ((${#files[@]})) || continue
+  # <proxseg/PART/...> of a later part.
+  while IFS= read -r hit; do
+    echo "$hit  <- $part includes a later part" >&2
+    bad=1
+  done < <(grep -nE '^\s*#\s*include\s*<proxseg/' "${files[@]}" /dev/null | grep -vE "<proxseg/($ok)/" || true)
+  # "..." includes: only the part's own private files and src/util/.
+  while IFS= read -r hit; do
+    echo "$hit  <- $part includes another part's private file" >&2
+    bad=1
+  done < <(grep -nE '^\s*#\s*include\s*"[^"]*/' "${files[@]}" /dev/null | grep -vE '"util/[a-z_]+\.hpp"' || true)
 done
 
 # Private helpers shared by all parts depend on none of them.
-for f in $(find src/util -name '*.hpp' 2>/dev/null | sort); do
-  while IFS=: read -r line text; do
-    echo "$f:$line: a src/util helper includes a proxseg header: $text" >&2
-    bad=1
-  done < <(grep -nE '^\s*#\s*include\s*(<proxseg/|")' "$f" || true)
-done
+while IFS= read -r hit; do
+  echo "$hit  <- a src/util helper includes a proxseg header" >&2
+  bad=1
+done < <(grep -nE '^\s*#\s*include\s*(<proxseg/|")' src/util/*.hpp /dev/null || true)
 
 if ((bad)); then
   echo "check_layering: the dependency direction core -> io -> eval is broken (see above)" >&2
