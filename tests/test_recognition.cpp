@@ -388,10 +388,14 @@ TEST(Recognition, MilkOnlyDatabaseNamesTheCartonAndNothingElse) {
   add_view(db, "milk", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "milk.pcd");
   const Frame scene = read_pcd(kData + "/pcl/milk_cartoon_all_small_clorox.pcd");
   const SegmentResult seg = segment(scene, SegmentParams{});
-  int named = 0, unknown = 0;
+  int named = 0, unknown = 0, id = 0;
   for (const SceneObject& o : recognize_scene(scene, seg.selection, db, {})) {
     const Recognition& r = o.recognition;
     std::cout << o.points.size() << " points: " << r.name << " " << r.best.score << "\n";
+    EXPECT_EQ(o.id, ++id);  // 1.. in order
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int i : o.points) mean += scene.xyz[i].cast<double>();
+    EXPECT_LT((o.centroid - mean / o.points.size()).norm(), 1e-9);
     if (r.name == "milk") {
       ++named;
       EXPECT_GE(r.best.fitness, 0.9);
@@ -403,6 +407,29 @@ TEST(Recognition, MilkOnlyDatabaseNamesTheCartonAndNothingElse) {
   }
   EXPECT_EQ(named, 1);
   EXPECT_GE(unknown, 5);
+}
+
+// recognize_object(): one object as a cloud of its own (`recognize --object`): the milk carton's
+// cloud is named against the milk-only database, with id 0, its valid points (an invalid one
+// left out), their centroid and the times.
+TEST(Recognition, RecognizeObjectNamesOneCloud) {
+  const std::string dir = fresh_dir("db_milk_object");
+  Database db = open_database(dir, DescriptorParams{});
+  add_view(db, "milk", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "milk.pcd");
+  Frame milk = read_pcd(kData + "/pcl/milk.pcd");
+  milk.xyz[0] = Eigen::Vector3f::Constant(NAN);  // an invalid point is left out
+  const SceneObject o = recognize_object(milk, db, RecognitionParams{});
+  EXPECT_EQ(o.recognition.name, "milk");
+  EXPECT_GE(o.recognition.best.fitness, 0.9);
+  EXPECT_EQ(o.id, 0);
+  EXPECT_EQ(o.points.size(), milk.valid_count());
+  EXPECT_EQ(o.points.front(), 1);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : o.points) mean += milk.xyz[i].cast<double>();
+  EXPECT_LT((o.centroid - mean / o.points.size()).norm(), 1e-9);
+  EXPECT_TRUE(o.instances.empty());
+  EXPECT_GT(o.recognition.describe_ms, 0);
+  EXPECT_GT(o.recognition.views_aligned, 0);
 }
 
 // ---- Acceptance 2: YCB-Video, 10 frames x 3 objects, database of the 21 models ----

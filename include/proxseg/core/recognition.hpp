@@ -86,7 +86,8 @@ struct Recognition {
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
   int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
   double align_ms = 0;                // wall time over all views
-  double describe_ms = 0;  // describing the candidate (recognize_object; 0 from recognize())
+  double describe_ms = 0;  // describing the candidate (recognize_object, recognize_scene; 0 from
+                           // recognize(), which is given it described)
 };
 
 double score_of(const Alignment& a, Score score);
