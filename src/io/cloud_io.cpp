@@ -38,6 +38,10 @@ namespace {
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw InputError(path + ": " + what);
 }
+// The same for a file the system refuses (missing, unreadable, unwritable).
+[[noreturn]] void fail_file(const std::string& path, const std::string& what) {
+  throw FileError(path + ": " + what);
+}
 
 // Makes text from a file safe to quote in a one-line message.
 std::string quote(std::string_view s, std::size_t max_len = 60) {
@@ -67,15 +71,15 @@ void require_file(const std::string& path) {
   std::error_code ec;
   const auto st = fs::status(path, ec);
   if (st.type() == fs::file_type::not_found)
-    fail(path, "file not found (expected an existing file)");
-  if (ec) fail(path, "cannot access (" + ec.message() + ")");
-  if (fs::is_directory(st)) fail(path, "is a directory (expected a file)");
+    fail_file(path, "file not found (expected an existing file)");
+  if (ec) fail_file(path, "cannot access (" + ec.message() + ")");
+  if (fs::is_directory(st)) fail_file(path, "is a directory (expected a file)");
 }
 
 std::string read_whole_file(const std::string& path) {
   require_file(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  if (!in) fail_file(path, std::string("cannot open (") + std::strerror(errno) + ")");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) fail(path, "read error (expected a readable file)");
@@ -603,7 +607,7 @@ std::string size_str(const cv::Mat& m) {
 // allocates arrays of that count.
 void check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
+  if (!in) fail_file(path, std::string("cannot open (") + std::strerror(errno) + ")");
   std::string line;
   std::getline(in, line);
   if (line != "ply" && line != "ply\r")
@@ -839,10 +843,7 @@ std::vector<std::uint8_t> read_label_image(const std::string& path, int width, i
 }
 
 Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k) {
-  if (!(k.fx > 0) || !(k.fy > 0) || !(k.depth_scale > 0) || !std::isfinite(k.fx) ||
-      !std::isfinite(k.fy) || !std::isfinite(k.depth_scale) || !std::isfinite(k.cx) ||
-      !std::isfinite(k.cy))
-    throw InputError("intrinsics: fx, fy and depth_scale must be finite and > 0, cx and cy finite");
+  check(k);
   const cv::Mat color = read_image(color_path);
   const cv::Mat depth = read_image(depth_path);
   if (color.depth() != CV_8U ||
@@ -857,27 +858,16 @@ Frame read_rgbd(const std::string& color_path, const std::string& depth_path, co
   Frame frame;
   frame.width = color.cols;
   frame.height = color.rows;
-  const std::size_t n = static_cast<std::size_t>(color.cols) * color.rows;
-  frame.xyz.resize(n);
-  frame.rgb.resize(n);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const cv::Mat dense = depth.isContinuous() ? depth : depth.clone();
+  frame.xyz = back_project(dense.ptr<std::uint16_t>(0), depth.cols, depth.rows, k);
+  frame.rgb.resize(frame.xyz.size());
   const int ch = color.channels();
   for (int v = 0; v < color.rows; ++v) {
-    const auto* drow = depth.ptr<std::uint16_t>(v);
     const auto* crow = color.ptr<std::uint8_t>(v);
     for (int u = 0; u < color.cols; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * color.cols + u;
       const std::uint8_t* c = crow + static_cast<std::size_t>(u) * ch;
-      frame.rgb[i] = ch == 1 ? Rgb{c[0], c[0], c[0]} : Rgb{c[2], c[1], c[0]};  // BGR(A) -> RGB
-      const std::uint16_t d = drow[u];
-      if (d == 0) {
-        frame.xyz[i] = Eigen::Vector3f(nan, nan, nan);
-        continue;
-      }
-      const double z = d / k.depth_scale;
-      frame.xyz[i] =
-          Eigen::Vector3f(static_cast<float>((u - k.cx) * z / k.fx),
-                          static_cast<float>((v - k.cy) * z / k.fy), static_cast<float>(z));
+      frame.rgb[static_cast<std::size_t>(v) * color.cols + u] =
+          ch == 1 ? Rgb{c[0], c[0], c[0]} : Rgb{c[2], c[1], c[0]};  // BGR(A) -> RGB
     }
   }
   if (frame.valid_count() == 0)
@@ -947,22 +937,22 @@ namespace {
 fs::path write_beside(const std::string& path, const std::string& bytes) {
   const fs::path target(path);
   if (!target.has_filename())
-    fail(path, "cannot write (the path names a directory, expected a file name)");
+    fail_file(path, "cannot write (the path names a directory, expected a file name)");
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    fail(path, "cannot write (directory " + dir.string() + " does not exist)");
+    fail_file(path, "cannot write (directory " + dir.string() + " does not exist)");
   static std::atomic<unsigned> counter{0};
   const fs::path tmp = dir / ("." + target.filename().string() + ".tmp." +
                               std::to_string(::getpid()) + "." + std::to_string(counter++));
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0) fail(path, std::string("cannot write (") + std::strerror(errno) + ")");
+  if (fd < 0) fail_file(path, std::string("cannot write (") + std::strerror(errno) + ")");
   auto give_up = [&](const std::string& reason) {
     ::close(fd);
     std::error_code ignore;
     fs::remove(tmp, ignore);
-    fail(path, "cannot write (" + reason + ")");
+    fail_file(path, "cannot write (" + reason + ")");
   };
   std::size_t done = 0;
   while (done < bytes.size()) {
@@ -978,7 +968,7 @@ fs::path write_beside(const std::string& path, const std::string& bytes) {
     const std::string reason = std::strerror(errno);
     std::error_code ignore;
     fs::remove(tmp, ignore);
-    fail(path, "cannot write (" + reason + ")");
+    fail_file(path, "cannot write (" + reason + ")");
   }
   return tmp;
 }
@@ -992,7 +982,7 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
   if (ec) {
     std::error_code ignore;
     fs::remove(tmp, ignore);
-    fail(path, "cannot write (" + ec.message() + ")");
+    fail_file(path, "cannot write (" + ec.message() + ")");
   }
 }
 
@@ -1001,7 +991,7 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
   // targets: refused before anything is written.
   for (const auto& [path, bytes] : files) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) fail(path, "cannot write (a directory of that name exists)");
+    if (fs::is_directory(path, ec)) fail_file(path, "cannot write (a directory of that name exists)");
   }
   std::vector<fs::path> temps;
   std::size_t renamed = 0;
@@ -1010,7 +1000,7 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
     for (; renamed < files.size(); ++renamed) {
       std::error_code ec;
       fs::rename(temps[renamed], files[renamed].first, ec);
-      if (ec) fail(files[renamed].first, "cannot write (" + ec.message() + ")");
+      if (ec) fail_file(files[renamed].first, "cannot write (" + ec.message() + ")");
     }
   } catch (...) {
     // Every file not yet in place goes, and so do the new ones already in place: never a set

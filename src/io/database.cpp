@@ -22,6 +22,10 @@ const Rgb kNoColour = {128, 128, 128};  // what a view from an XYZ-only cloud st
 [[noreturn]] void fail(const std::string& where, const std::string& what) {
   throw InputError(where + ": " + what);
 }
+// The same for a file or directory the system refuses (missing, unreadable, unwritable).
+[[noreturn]] void fail_file(const std::string& where, const std::string& what) {
+  throw FileError(where + ": " + what);
+}
 
 // FNV-1a over the float coordinates: ties a feature cache to the exact points of its PCD.
 std::uint64_t checksum(const std::vector<Eigen::Vector3d>& points) {
@@ -58,7 +62,7 @@ std::string cache_bytes(const Cloud& c) {
 Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
                  std::vector<Rgb> colours, std::size_t expected_dims) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open the feature cache (expected the file named in index.json)");
+  if (!in) fail_file(path, "cannot open the feature cache (expected the file named in index.json)");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t header = 8 + 4 + 4 + 3 * 8 + 8;
   if (bytes.size() < header || std::memcmp(bytes.data(), kMagic, 8) != 0)
@@ -179,8 +183,8 @@ void write_index(const Database& db) {
 
 Database load_database(const std::string& dir) {
   const std::string path = (fs::path(dir) / "index.json").string();
-  if (!fs::is_directory(dir)) fail(dir, "is not a directory (expected a model database)");
-  if (!fs::exists(path)) fail(path, "does not exist (expected a model database index)");
+  if (!fs::is_directory(dir)) fail_file(dir, "is not a directory (expected a model database)");
+  if (!fs::exists(path)) fail_file(path, "does not exist (expected a model database index)");
   nlohmann::json j;
   {
     std::ifstream in(path);
@@ -281,7 +285,7 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   v.features = stem + ".fpfh";
   std::error_code ec;
   fs::create_directories(fs::path(db.dir) / "views", ec);
-  if (ec) fail(db.dir, "cannot create the database directory (" + ec.message() + ")");
+  if (ec) fail_file(db.dir, "cannot create the database directory (" + ec.message() + ")");
   Frame out;
   out.width = static_cast<int>(v.cloud.size());
   out.height = 1;

@@ -585,7 +585,7 @@ std::vector<std::string> write_candidates(const std::string& dir, const Frame& f
                                           const SegmentResult& result) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": cannot create candidates directory (" + ec.message() + ")");
+  if (ec) throw FileError(dir + ": cannot create candidates directory (" + ec.message() + ")");
   std::vector<std::string> written;
   try {
     for (const Candidate& c : result.selection.components) {

@@ -232,7 +232,7 @@ const auto kRecognitionFields = [](auto& p, auto&& f) { recognition_fields(p, f)
 
 json read_json_file(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open config file");
+  if (!in) throw FileError(path + ": cannot open config file");
   try {
     return json::parse(in);
   } catch (const json::exception& e) {  // parse errors, and numbers out of range (out_of_range.406)

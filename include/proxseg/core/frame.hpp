@@ -37,4 +37,10 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An InputError about a file the system refuses: missing, unreadable, unwritable, a directory
+// instead of a file. Python raises OSError for it, ValueError for other InputErrors.
+struct FileError : InputError {
+  using InputError::InputError;
+};
+
 }  // namespace proxseg

@@ -2,19 +2,13 @@
 #pragma once
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/mesh.hpp>
+#include <proxseg/core/rgbd.hpp>
 
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace proxseg {
-
-// Pinhole intrinsics of a depth camera. depth_scale = depth units per metre
-// (metres = value / depth_scale; 1000 for millimetre PNGs, YCB-Video's factor_depth = 10000).
-struct Intrinsics {
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  double depth_scale = 1000.0;
-};
 
 // PCD with fields x y z and rgb or rgba (any order, extra fields ignored); an optional
 // integer `label` field (or the field named label_field, e.g. "instance") is kept in

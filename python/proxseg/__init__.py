@@ -1,0 +1,31 @@
+"""proxseg: training-free segmentation and recognition of objects in RGB-D point clouds.
+
+The method of "proxseg" (paper sections 3.1-3.4): voxels, colour / texture / shape features,
+an initial clustering (Algorithm 1) with k-means, a Potts MRF solved by graph cuts, the selection
+of candidate objects, and their recognition against a database of model views (FPFH, RANSAC,
+ICP). Everything runs in this process, with numpy arrays in and out; the results equal the
+``proxseg`` CLI's.
+
+    import proxseg
+    frame = proxseg.read_point_cloud("scene.pcd")
+    result = proxseg.segment(frame)                 # labels, instances, candidates
+    db = proxseg.Database("models/")
+    scene = proxseg.recognize(frame, db)            # names, scores, 4x4 poses, object ids
+
+Errors: ValueError for bad input or parameters, OSError for files that cannot be read or
+written, TypeError for arguments of the wrong kind. The computation releases the GIL; results do
+not depend on the number of threads.
+"""
+
+from ._proxseg import Frame, __version__, build_info
+from ._frame import as_frame, from_rgbd, read_point_cloud, read_rgbd
+from ._params import RecognitionParams, SegmentParams
+from ._segment import Box, Candidate, SegmentResult, label_colours, segment
+from ._database import Database
+from ._recognize import RecognitionResult, RecognizedObject, recognize, recognize_object
+
+__all__ = [
+    "Box", "Candidate", "Database", "Frame", "RecognitionParams", "RecognitionResult",
+    "RecognizedObject", "SegmentParams", "SegmentResult", "__version__", "as_frame", "build_info",
+    "from_rgbd", "label_colours", "read_point_cloud", "read_rgbd", "recognize", "recognize_object", "segment",
+]

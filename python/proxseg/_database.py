@@ -1,0 +1,110 @@
+"""proxseg.Database: the model database [paper 3.4] on disk (docs/database.md)."""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any, Dict, List, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _proxseg
+from ._frame import PathLike, as_frame
+
+
+class Database:
+    """A model database: named objects, each with partial views described once (normals, FPFH),
+    in a directory (index.json, one PCD and one feature cache per view). The same directory
+    works with ``proxseg db`` and ``proxseg recognize --db``.
+
+    ``Database(path)`` loads an existing database (OSError when it is missing).
+    ``Database(path, create=True)`` opens it, or starts a new empty one there (nothing is written
+    until a view is added); ``voxel_size``, ``normal_radius`` (metres) and ``fpfh_radii``
+    (metres) set a new database's descriptor.
+
+    Recognitions may read one Database from several threads at once; adding views waits for
+    them (and they for it).
+    """
+
+    def __init__(self, path: PathLike, *, create: bool = False,
+                 voxel_size: Optional[float] = None, normal_radius: Optional[float] = None,
+                 fpfh_radii: Optional[Sequence[float]] = None) -> None:
+        self._db = _proxseg._Database(
+            os.fspath(path), create, math.nan if voxel_size is None else float(voxel_size),
+            math.nan if normal_radius is None else float(normal_radius),
+            [float(r) for r in fpfh_radii] if fpfh_radii is not None else [])
+
+    @property
+    def path(self) -> str:
+        """The database directory."""
+        return self._db.path
+
+    @property
+    def objects(self) -> List[str]:
+        """Object names, in order of first appearance."""
+        return self._db.objects
+
+    def __len__(self) -> int:
+        """The number of views."""
+        return len(self._db)
+
+    def __repr__(self) -> str:
+        return f"<proxseg.Database {self.path!r}: {len(self.objects)} objects, {len(self)} views>"
+
+    def info(self) -> Dict[str, Any]:
+        """What ``proxseg db info --json`` prints: the descriptor and per object its views and
+        points."""
+        return self._db.info()
+
+    def view(self, index: int) -> Dict[str, Any]:
+        """View ``index``: object, file, source, points, coloured, and ``xyz`` (n, 3) float32, the
+        voxel-filtered points in the model frame (metres)."""
+        return self._db.view(index)
+
+    def add_view(self, object: str, points: Any, *, rgb: Optional[np.ndarray] = None,
+                 viewpoint: Optional[Sequence[float]] = (0.0, 0.0, 0.0),
+                 source: Optional[str] = None) -> Dict[str, Any]:
+        """Adds one view of ``object`` and writes it (view PCD, feature cache, index; atomically).
+
+        points: a Frame, a path, a numpy array (N, 3) metres with ``rgb`` (uint8) beside it, or an
+            Open3D PointCloud; its valid points in the model frame.
+        viewpoint: where the sensor was in that frame (metres; the origin for a captured view),
+            or None for a full model seen from everywhere (normals oriented outwards).
+        source: what the view was made from, kept in the index (default: the path, or "python").
+        Returns the view's entry: object, file, source, points, coloured.
+        """
+        frame = as_frame(points, rgb)
+        if source is None:
+            source = os.fspath(points) if isinstance(points, (str, os.PathLike)) else "python"
+        vp = (math.nan, math.nan, math.nan) if viewpoint is None else tuple(
+            float(v) for v in viewpoint)
+        if len(vp) != 3:
+            raise ValueError(f"viewpoint: {len(vp)} values (expected x, y, z in metres or None)")
+        return self._db.add_view(object, frame, np.array(vp, dtype=np.float64), source)
+
+    def render(self, object: str, mesh: PathLike, *, views: int = 8, units: str = "m",
+               distance: float = 0.0, depth_noise: float = 0.0, seed: int = 1
+               ) -> List[Dict[str, Any]]:
+        """Renders ``views`` partial views of a coloured mesh (PLY) with a virtual depth camera on
+        a sphere around it and adds them, as ``proxseg db render`` does [paper 3.4, Fig. 2].
+
+        units: "m" or "mm" (the mesh's coordinates). distance: camera to the mesh's centre,
+        metres (0 = automatic). depth_noise: std at 1 m, metres. seed: of the noise.
+        Returns the entries of the views added (views that see almost nothing are skipped).
+        """
+        if units not in ("m", "mm"):
+            raise ValueError(f"units: {units!r} (expected 'm' or 'mm')")
+        return self._db.render(object, os.fspath(mesh), 0.001 if units == "mm" else 1.0,
+                               int(views), float(distance), float(depth_noise), int(seed))
+
+
+DatabaseLike = Union[Database, PathLike]
+
+
+def as_database(db: DatabaseLike) -> Database:
+    """A Database, or one loaded from a path."""
+    if isinstance(db, Database):
+        return db
+    if isinstance(db, (str, os.PathLike)):
+        return Database(db)
+    raise TypeError(f"db: {type(db).__name__} (expected a proxseg.Database or a path)")

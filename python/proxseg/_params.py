@@ -1,0 +1,172 @@
+"""Parameters as the JSON config lays them out, with attribute access.
+
+``SegmentParams`` and ``RecognitionParams`` hold the same names, sections and values as the
+``"parameters"`` of the CLI's reports and its ``--config`` files (docs/method.md says what each
+one does). The C++ library checks them: a wrong name or value raises ``ValueError`` naming the
+field.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Any, Dict, Iterator, Mapping, Optional
+
+from . import _proxseg
+
+
+class _Section:
+    """One section of a parameter tree (``voxels``, ``mrf``, ``registration``...): attribute
+    access to its values; setting a name it does not have raises ``AttributeError``."""
+
+    __slots__ = ("_data", "_path")
+
+    def __init__(self, data: Dict[str, Any], path: str) -> None:
+        object.__setattr__(self, "_data", data)
+        object.__setattr__(self, "_path", path)
+
+    def __getattr__(self, name: str) -> Any:
+        data = object.__getattribute__(self, "_data")
+        if name not in data:
+            raise AttributeError(f"{self._where(name)}: no such parameter "
+                                 f"(expected one of {', '.join(sorted(data))})")
+        value = data[name]
+        return _Section(value, self._where(name)) if isinstance(value, dict) else value
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        data = object.__getattribute__(self, "_data")
+        if name not in data:
+            raise AttributeError(f"{self._where(name)}: no such parameter "
+                                 f"(expected one of {', '.join(sorted(data))})")
+        if isinstance(data[name], dict):
+            if not isinstance(value, Mapping):
+                raise ValueError(f"{self._where(name)}: a section (expected a dict of its values)")
+            _merge(data[name], dict(value), self._where(name))
+        else:
+            data[name] = value
+
+    def __dir__(self) -> Iterator[str]:
+        return iter(sorted(object.__getattribute__(self, "_data")))
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(object.__getattribute__(self, "_data"))
+
+    def __getitem__(self, name: str) -> Any:
+        return self.__getattr__(name)
+
+    def __setitem__(self, name: str, value: Any) -> None:
+        self.__setattr__(name, value)
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, _Section):
+            return self.to_dict() == other.to_dict()
+        if isinstance(other, Mapping):
+            return self.to_dict() == dict(other)
+        return NotImplemented
+
+    def _where(self, name: str) -> str:
+        path = object.__getattribute__(self, "_path")
+        return f"{path}.{name}" if path else name
+
+    def to_dict(self) -> Dict[str, Any]:
+        """A deep copy as plain dicts (the JSON config's layout)."""
+        return copy.deepcopy(object.__getattribute__(self, "_data"))
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({object.__getattribute__(self, '_data')!r})"
+
+
+def _merge(tree: Dict[str, Any], overrides: Dict[str, Any], path: str = "") -> None:
+    """Sets the values of ``overrides`` in ``tree``: a section name with a dict merges into that
+    section; a parameter name that is unique across sections may be given without its section
+    (``voxel_size=0.01`` for ``voxels={"voxel_size": 0.01}``)."""
+    for name, value in overrides.items():
+        where = f"{path}.{name}" if path else name
+        if name in tree:
+            if isinstance(tree[name], dict):
+                if not isinstance(value, Mapping):
+                    raise ValueError(f"{where}: a section (expected a dict of its values, "
+                                    f"e.g. {name}={{{next(iter(tree[name]), 'name')!r}: ...}})")
+                _merge(tree[name], dict(value), where)
+            else:
+                tree[name] = value
+            continue
+        owners = [s for s, v in tree.items() if isinstance(v, dict) and name in v]
+        if len(owners) == 1:
+            tree[owners[0]][name] = value
+        elif owners:
+            raise ValueError(f"{where}: in several sections ({', '.join(owners)}); "
+                            f"give it as section={{{name!r}: ...}}")
+        else:
+            raise ValueError(f"{where}: no such parameter")
+
+
+class SegmentParams(_Section):
+    """Every parameter of :func:`proxseg.segment` [paper 3.1-3.3], one section per stage:
+    ``voxels``, ``features``, ``clustering``, ``kmeans``, ``mrf``, ``selection`` and ``threads``.
+
+    ``SegmentParams(preset="default", **overrides)``: ``preset`` is ``"default"`` (the best
+    measured settings) or ``"paper"`` (exactly the paper's); overrides as in
+    :func:`proxseg.segment`. Lengths are in metres, angles in degrees.
+
+    >>> p = proxseg.SegmentParams(preset="paper", voxel_size=0.01)
+    >>> p.mrf.pairwise_weight
+    0.275
+    >>> p.mrf.enabled = False
+    """
+
+    def __init__(self, preset: str = "default", **overrides: Any) -> None:
+        super().__init__(resolve_segment_params(None, preset, overrides), "")
+
+
+class RecognitionParams(_Section):
+    """Every parameter of :func:`proxseg.recognize` [paper 3.4]: the ``registration`` section
+    (RANSAC, ICP, distances in metres) and the naming rule (``score``, ``min_score``,
+    ``min_margin``, ``shortlist``, ``seed``...).
+
+    ``RecognitionParams(**overrides)``: the defaults with overrides as in
+    :func:`proxseg.recognize`.
+    """
+
+    def __init__(self, **overrides: Any) -> None:
+        super().__init__(resolve_recognition_params(None, overrides), "")
+
+
+_SEGMENT_DEFAULTS: Dict[str, Dict[str, Any]] = {}
+
+
+def _preset_tree(preset: str) -> Dict[str, Any]:
+    if preset not in _SEGMENT_DEFAULTS:
+        _SEGMENT_DEFAULTS[preset] = _proxseg._segment_params(preset, {})
+    return copy.deepcopy(_SEGMENT_DEFAULTS[preset])
+
+
+def _as_tree(params: Any, kind: type, what: str) -> Dict[str, Any]:
+    if isinstance(params, kind):
+        return params.to_dict()
+    if isinstance(params, Mapping):
+        return copy.deepcopy(dict(params))
+    raise TypeError(f"{what}: {type(params).__name__} (expected {kind.__name__} or a dict)")
+
+
+def resolve_segment_params(params: Any, preset: Optional[str],
+                           overrides: Mapping[str, Any]) -> Dict[str, Any]:
+    """The complete, checked segmentation parameters: ``preset`` (default "default"), then
+    ``params`` (SegmentParams or a dict, possibly partial), then ``overrides``."""
+    if isinstance(params, SegmentParams) and preset is None:
+        tree = params.to_dict()
+    else:
+        tree = _preset_tree(preset or "default")
+        if params is not None:
+            _merge(tree, _as_tree(params, SegmentParams, "params"), "")
+    _merge(tree, dict(overrides))
+    return _proxseg._segment_params(preset or "default", tree)
+
+
+def resolve_recognition_params(params: Any, overrides: Mapping[str, Any]) -> Dict[str, Any]:
+    """The complete, checked recognition parameters: the defaults, then ``params``
+    (RecognitionParams or a dict, possibly partial), then ``overrides``."""
+    tree = _proxseg._recognition_params({})
+    if params is not None:
+        _merge(tree, _as_tree(params, RecognitionParams, "params"), "")
+    _merge(tree, dict(overrides))
+    return _proxseg._recognition_params(tree)

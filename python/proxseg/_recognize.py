@@ -1,0 +1,167 @@
+"""proxseg.recognize() and recognize_object(): which known object each candidate is, with its
+pose [paper 3.4, Algorithms 2-3]."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from . import _proxseg
+from ._database import DatabaseLike, as_database
+from ._frame import as_frame
+from ._params import RecognitionParams, SegmentParams, _Section, resolve_recognition_params
+from ._params import resolve_segment_params
+from ._segment import SegmentResult, segmentation_result
+
+
+@dataclass(frozen=True)
+class RecognizedObject:
+    """One object of a scene (or the one cloud of :func:`recognize_object`).
+
+    id: its value in ``RecognitionResult.object_ids`` (1..n; 0 for recognize_object).
+    name: the object of the best view, or "unknown" (best score under min_score, or its lead over
+        the runner-up under min_margin when not confident).
+    score, fitness, coverage, rmse: of the best view (0 when none was aligned); rmse in metres.
+    colour: the colour agreement of the best view's explained points (1 without colour).
+    pose: (4, 4) rigid transform, scene (camera) frame <- model frame, metres; None when no view
+        was aligned.
+    view: the best view's file in the database. runner_up: (name, score) of the best view of
+        another object, or None.
+    points: frame point indices it holds (flattened row-major when organized), ascending.
+    centroid: (3,) metres. instances: the SegmentResult candidates it holds points of.
+    origin: "candidate", "split" or "merged" (recognition's split and merge passes).
+    report: its entry of the CLI's ``proxseg recognize`` JSON report.
+    """
+
+    id: int
+    name: str
+    score: float
+    fitness: float
+    coverage: float
+    colour: float
+    rmse: float
+    pose: Optional[np.ndarray]
+    view: Optional[str]
+    runner_up: Optional[tuple]
+    points: np.ndarray
+    centroid: np.ndarray
+    instances: List[int]
+    origin: str
+    report: Dict[str, Any] = field(repr=False)
+
+    @property
+    def known(self) -> bool:
+        """Whether it was named (not "unknown")."""
+        return self.name != "unknown"
+
+
+@dataclass(frozen=True)
+class RecognitionResult:
+    """What :func:`recognize` and :func:`recognize_object` return.
+
+    objects: the RecognizedObjects, in id order.
+    names: their names. scores: (n,) their best scores. poses: (n, 4, 4) their poses (NaN where
+        none).
+    object_ids: per point the id of the object holding it (0 = none), the frame's shape
+        (recognize only; None for recognize_object).
+    segmentation: the SegmentResult the scene's candidates came from (recognize only).
+    times_ms: "segment", "recognize" (wall, milliseconds).
+    params: {"segmentation": SegmentParams, "recognition": RecognitionParams} used.
+    """
+
+    objects: List[RecognizedObject]
+    object_ids: Optional[np.ndarray]
+    segmentation: Optional[SegmentResult]
+    times_ms: Dict[str, float]
+    params: Dict[str, _Section]
+
+    @property
+    def names(self) -> List[str]:
+        return [o.name for o in self.objects]
+
+    @property
+    def scores(self) -> np.ndarray:
+        return np.array([o.score for o in self.objects], dtype=np.float64)
+
+    @property
+    def poses(self) -> np.ndarray:
+        nan = np.full((4, 4), np.nan)
+        return np.array([o.pose if o.pose is not None else nan for o in self.objects],
+                        dtype=np.float64).reshape(-1, 4, 4)
+
+    def __repr__(self) -> str:
+        return f"RecognitionResult({', '.join(f'{o.id}: {o.name} {o.score:.2f}' for o in self.objects)})"
+
+
+def _object(raw: Dict[str, Any]) -> RecognizedObject:
+    r = raw["report"]
+    best = r.get("best")
+    runner = r.get("runner_up")
+    return RecognizedObject(
+        id=r["id"], name=r["name"], score=r.get("score", 0.0), fitness=r.get("fitness", 0.0),
+        coverage=r.get("coverage", 0.0), colour=(best or {}).get("colour", 1.0),
+        rmse=(best or {}).get("rmse", 0.0),
+        pose=np.array(r["pose"], dtype=np.float64) if "pose" in r else None,
+        view=(best or {}).get("view"),
+        runner_up=(runner["name"], runner["score"]) if runner else None, points=raw["points"],
+        centroid=np.array(r["centroid"]), instances=list(r["instances"]), origin=r["origin"],
+        report=r)
+
+
+def _params(tree: Dict[str, Any], kind: type) -> _Section:
+    p = kind.__new__(kind)
+    _Section.__init__(p, tree, "")
+    return p
+
+
+def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
+              segment_params: Optional[Any] = None, preset: Optional[str] = None,
+              rgb: Optional[np.ndarray] = None, **overrides: Any) -> RecognitionResult:
+    """Segments a scene and names every candidate object from the model database, with its pose
+    [paper 3.1-3.4]: what ``proxseg recognize SCENE --db DB`` does.
+
+    frame: as for :func:`segment` (Frame, path, numpy points with ``rgb``, Open3D cloud).
+    db: a :class:`Database` (load it once for many frames) or its directory.
+    params: RecognitionParams or a dict (JSON layout, partial dicts over the defaults).
+    segment_params, preset: the segmentation's parameters, as ``params`` and ``preset`` of
+        :func:`segment`.
+    overrides: recognition parameters by name (``min_score=0.6``, ``shortlist=0``,
+        ``registration={"icp_iterations": 50}``, ``seed=2``).
+
+    Returns a :class:`RecognitionResult` (objects with names, scores, 4x4 poses; per-point
+    ``object_ids``; the segmentation). Equals the CLI's answer for the same input and parameters.
+    Raises ValueError for bad input or parameters, OSError for a database that cannot be read.
+    """
+    f = as_frame(frame, rgb)
+    database = as_database(db)
+    seg = resolve_segment_params(segment_params, preset, {})
+    rec = resolve_recognition_params(params, overrides)
+    raw = _proxseg._recognize_scene(f, database._db, seg, rec)
+    ids = raw["object_ids"]
+    return RecognitionResult(
+        objects=[_object(o) for o in raw["objects"]], object_ids=ids,
+        segmentation=segmentation_result(raw["segmentation"]), times_ms=dict(raw["times_ms"]),
+        params={"segmentation": _params(seg, SegmentParams),
+                "recognition": _params(rec, RecognitionParams)})
+
+
+def recognize_object(points: Any, db: DatabaseLike, params: Optional[Any] = None, *,
+                     rgb: Optional[np.ndarray] = None, **overrides: Any) -> RecognitionResult:
+    """Names one already segmented object cloud from the model database, with its pose
+    [paper 3.4, Algorithm 3]: what ``proxseg recognize --object CLOUD --db DB`` does.
+
+    points: a Frame, path, numpy array (N, 3) metres with ``rgb`` (uint8), or Open3D cloud, in
+        the sensor frame (sensor at the origin).
+    params, overrides: as for :func:`recognize`.
+
+    Returns a :class:`RecognitionResult` with one object (id 0) and no segmentation.
+    """
+    f = as_frame(points, rgb)
+    database = as_database(db)
+    rec = resolve_recognition_params(params, overrides)
+    raw = _proxseg._recognize_object(f, database._db, rec)
+    return RecognitionResult(objects=[_object(o) for o in raw["objects"]], object_ids=None,
+                             segmentation=None, times_ms=dict(raw["times_ms"]),
+                             params={"recognition": _params(rec, RecognitionParams)})

@@ -1,0 +1,160 @@
+"""proxseg.segment(): regions and candidate objects of a scene [paper 3.1-3.3]."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from . import _proxseg
+from ._frame import as_frame
+from ._params import SegmentParams, resolve_segment_params
+
+
+@dataclass(frozen=True)
+class Box:
+    """An oriented bounding box, metres: ``centre`` (3,), ``axes`` (3, 3) with the axes as
+    columns (largest extent first, right-handed) and ``extent`` (3,) the side lengths."""
+
+    centre: np.ndarray
+    axes: np.ndarray
+    extent: np.ndarray
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One instance of the selection [3.3]: a candidate object, or the background (a large
+    supporting plane: table, floor, wall).
+
+    id: its value in ``SegmentResult.instances`` (1..n).
+    label: the segmentation label it came from.
+    points: indices into the frame's points (flattened row-major when organized), ascending.
+    centroid: (3,) metres. box: its oriented bounding box.
+    background: True for a supporting plane, which is not a candidate object.
+    """
+
+    id: int
+    label: int
+    points: np.ndarray
+    centroid: np.ndarray
+    box: Box
+    background: bool
+
+    def __repr__(self) -> str:
+        c = ", ".join(f"{x:.3f}" for x in self.centroid)
+        e = ", ".join(f"{x:.3f}" for x in self.box.extent)
+        return (f"Candidate(id={self.id}, points={len(self.points)}, centroid=({c}), "
+                f"extent=({e}){', background' if self.background else ''})")
+
+
+@dataclass(frozen=True)
+class SegmentResult:
+    """What :func:`segment` returns.
+
+    labels: segmentation label per point (uint32; 0 = invalid, 1..k), the frame's shape:
+        (H, W) when organized, else (N,).
+    labels_kmeans: the same before the MRF.
+    instances: instance per point (uint32; 0 = none, else a Candidate.id), the frame's shape.
+    candidates: the candidate objects (background planes excluded), in id order.
+    background: the background instances.
+    k: number of segmentation labels.
+    times_ms: wall time of each stage and "total", milliseconds.
+    params: the parameters used (SegmentParams).
+    report: the CLI's JSON report as a dict (``proxseg segment --json``): input, parameters,
+        version and commit, times, counts, energies.
+    """
+
+    labels: np.ndarray
+    labels_kmeans: np.ndarray
+    instances: np.ndarray
+    candidates: List[Candidate]
+    background: List[Candidate]
+    k: int
+    times_ms: Dict[str, float]
+    params: SegmentParams
+    report: Dict[str, Any] = field(repr=False)
+
+    def __repr__(self) -> str:
+        return (f"SegmentResult(k={self.k}, candidates={len(self.candidates)}, "
+                f"background={len(self.background)}, shape={self.labels.shape}, "
+                f"total_ms={self.times_ms.get('total', 0):.1f})")
+
+
+def label_colours(labels: np.ndarray) -> np.ndarray:
+    """A colour per label for display: float64 RGB in [0, 1] of shape ``labels.shape + (3,)``,
+    black for 0, distinct hues by golden-ratio steps otherwise; the same label, the same colour.
+    ``labels.reshape(-1)`` of an organized frame's result colours
+    ``open3d.geometry.PointCloud.colors`` (``open3d.utility.Vector3dVector(colours.reshape(-1,
+    3))``) point for point."""
+    labels = np.asarray(labels)
+    hue = np.mod(labels.astype(np.float64) * 0.618033988749895, 1.0) * 6.0
+    s, v = 0.7, 0.95
+    sector = np.floor(hue).astype(np.int64) % 6
+    f = hue - np.floor(hue)
+    p, q, t = v * (1 - s), v * (1 - s * f), v * (1 - s * (1 - f))
+    vv = np.full_like(hue, v)
+    pp = np.full_like(hue, p)
+    r = np.choose(sector, [vv, q, pp, pp, t, vv])
+    g = np.choose(sector, [t, vv, vv, q, pp, pp])
+    b = np.choose(sector, [pp, pp, t, vv, vv, q])
+    out = np.stack([r, g, b], axis=-1)
+    out[labels == 0] = 0.0
+    return out
+
+
+def _candidates(report: Dict[str, Any], points: List[np.ndarray]) -> List[Candidate]:
+    out = []
+    for c, p in zip(report["candidates"], points):
+        box = c["box"]
+        out.append(Candidate(id=c["id"], label=c["label"], points=p,
+                             centroid=np.array(c["centroid"]),
+                             box=Box(np.array(box["centre"]), np.array(box["axes"]).T,
+                                     np.array(box["extent"])),
+                             background=c["background"]))
+    return out
+
+
+def _params_object(tree: Dict[str, Any]) -> SegmentParams:
+    p = SegmentParams.__new__(SegmentParams)
+    super(SegmentParams, p).__init__(tree, "")
+    return p
+
+
+def segmentation_result(raw: Dict[str, Any]) -> SegmentResult:
+    """A SegmentResult from the extension's dict (also used by recognize)."""
+    report = raw["report"]
+    instances = _candidates(report, raw["candidate_points"])
+    return SegmentResult(labels=raw["labels"], labels_kmeans=raw["labels_kmeans"],
+                         instances=raw["instances"],
+                         candidates=[c for c in instances if not c.background],
+                         background=[c for c in instances if c.background], k=report["k"],
+                         times_ms=dict(report["times_ms"]),
+                         params=_params_object(report["parameters"]), report=report)
+
+
+def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] = None,
+            rgb: Optional[np.ndarray] = None, **overrides: Any) -> SegmentResult:
+    """Segments a scene into regions and candidate objects, without training [paper 3.1-3.3]:
+    voxels, colour / texture / shape features, Algorithm 1 + k-means, the Potts MRF, selection.
+
+    frame: a :class:`Frame`, a file path, a numpy array of points (N, 3) or (H, W, 3) in metres
+        (NaN = no return) with ``rgb`` (uint8) beside it, or an Open3D PointCloud (legacy or
+        ``open3d.t``). Without colour the colour and texture blocks are off (the report says so).
+    params: a :class:`SegmentParams` or a dict laid out like the JSON config (partial dicts are
+        applied over the preset).
+    preset: "default" (best measured) or "paper" (exactly the paper's settings).
+    overrides: parameters by name, over ``params``: a section as a dict
+        (``mrf={"enabled": False}``) or any parameter by its own name when that is unique
+        (``voxel_size=0.01``, ``threads=2``). Lengths in metres.
+
+    Returns a :class:`SegmentResult`: per-point ``labels`` and ``instances`` in the frame's shape,
+    the ``candidates``, ``times_ms`` and the ``params`` used. The result equals the CLI's
+    ``proxseg segment`` with the same parameters, whatever ``threads`` is.
+
+    Raises ValueError for a bad frame or parameter (the message names the field), TypeError for an
+    argument of the wrong kind. The GIL is released while it runs: threads may segment at once.
+    """
+    f = as_frame(frame, rgb)
+    tree = resolve_segment_params(params, preset, overrides)
+    return segmentation_result(_proxseg._segment(f, tree))

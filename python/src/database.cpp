@@ -1,0 +1,164 @@
+// proxseg.Database: the model database [paper 3.4] on disk, opened once and shared by threads.
+#include <proxseg/core/render.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+#include "bindings.hpp"
+#include "database.hpp"
+
+namespace proxseg::python {
+namespace {
+
+DescriptorParams descriptor_params(double voxel_size, double normal_radius,
+                                   const std::vector<double>& fpfh_radii) {
+  DescriptorParams d;
+  if (!std::isnan(voxel_size)) d.voxel_size = voxel_size;
+  if (!std::isnan(normal_radius)) d.normal_radius = normal_radius;
+  if (!fpfh_radii.empty()) d.fpfh_radii = fpfh_radii;
+  if (!(d.voxel_size > 0) || !std::isfinite(d.voxel_size))
+    throw InputError("voxel_size: expected a positive size in metres");
+  if (!(d.normal_radius > 0) || !std::isfinite(d.normal_radius))
+    throw InputError("normal_radius: expected a positive radius in metres");
+  for (double r : d.fpfh_radii)
+    if (!(r > 0) || !std::isfinite(r)) throw InputError("fpfh_radii: expected positive radii");
+  return d;
+}
+
+// What Python is told about a view: copied out under the database's lock, turned into a dict
+// after it is released (a thread never waits for the GIL while it holds the lock).
+struct ViewInfo {
+  std::string object, file, source;
+  std::size_t points = 0;
+  bool coloured = false;
+};
+
+ViewInfo view_info(const ModelView& v) {
+  return {v.object, v.file, v.source, v.cloud.size(), !v.cloud.colours.empty()};
+}
+
+py::dict view_dict(const ViewInfo& v) {
+  py::dict out;
+  out["object"] = v.object;
+  out["file"] = v.file;
+  out["source"] = v.source;
+  out["points"] = v.points;
+  out["coloured"] = v.coloured;
+  return out;
+}
+
+}  // namespace
+
+void bind_database(py::module_& m) {
+  py::class_<SharedDatabase>(m, "_Database")
+      .def(py::init([](const std::string& path, bool create, double voxel_size,
+                       double normal_radius, const std::vector<double>& fpfh_radii) {
+             auto db = std::make_unique<SharedDatabase>();
+             py::gil_scoped_release release;
+             if (create) {
+               const bool given =
+                   !std::isnan(voxel_size) || !std::isnan(normal_radius) || !fpfh_radii.empty();
+               const DescriptorParams d = descriptor_params(voxel_size, normal_radius, fpfh_radii);
+               db->db = open_database(path, d);
+               if (given && !db->db.views.empty() &&
+                   (db->db.descriptor.voxel_size != d.voxel_size ||
+                    db->db.descriptor.normal_radius != d.normal_radius ||
+                    db->db.descriptor.fpfh_radii != d.fpfh_radii))
+                 throw InputError(path +
+                                  ": the database exists with other descriptor parameters (see "
+                                  "Database.info()); voxel_size, normal_radius and fpfh_radii "
+                                  "apply to a new one");
+             } else {
+               db->db = load_database(path);
+             }
+             return db;
+           }),
+           py::arg("path"), py::arg("create"), py::arg("voxel_size"), py::arg("normal_radius"),
+           py::arg("fpfh_radii"))
+      .def_property_readonly("path", [](const SharedDatabase& d) { return d.db.dir; })
+      .def_property_readonly("objects",
+                             [](const SharedDatabase& d) {
+                               std::shared_lock lock(d.mutex);
+                               return d.db.objects();
+                             })
+      .def("__len__",
+           [](const SharedDatabase& d) {
+             std::shared_lock lock(d.mutex);
+             return d.db.views.size();
+           })
+      .def("view",
+           [](const SharedDatabase& d, std::size_t i) {
+             std::shared_lock lock(d.mutex);
+             if (i >= d.db.views.size())
+               throw py::index_error("view " + std::to_string(i) + ": the database has " +
+                                     std::to_string(d.db.views.size()) + " views");
+             py::dict out = view_dict(view_info(d.db.views[i]));
+             const Cloud& c = d.db.views[i].cloud;
+             std::vector<float> xyz;
+             xyz.reserve(c.points.size() * 3);
+             for (const auto& p : c.points)
+               for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
+             out["xyz"] = to_numpy(std::move(xyz), {static_cast<py::ssize_t>(c.points.size()), 3});
+             return out;
+           })
+      .def("info",
+           [](const SharedDatabase& d) {
+             std::shared_lock lock(d.mutex);
+             return json_to_python(database_info(d.db));
+           })
+      .def(
+          "add_view",
+          [](SharedDatabase& d, const std::string& object, const Frame& points,
+             const Eigen::Vector3d& viewpoint, const std::string& source) {
+            ViewInfo added;
+            {
+              py::gil_scoped_release release;
+              if (object.empty()) throw InputError("object: expected a non-empty name");
+              if (points.valid_count() == 0) throw InputError("points: no valid points");
+              std::unique_lock lock(d.mutex);
+              added = view_info(add_view(d.db, object, points, viewpoint, source));
+            }
+            return view_dict(added);
+          },
+          py::arg("object"), py::arg("points"), py::arg("viewpoint"), py::arg("source"))
+      .def(
+          "render",
+          [](SharedDatabase& d, const std::string& object, const std::string& mesh_path,
+             double scale, int views, double distance, double depth_noise, std::uint32_t seed) {
+            std::vector<ViewInfo> added;
+            py::gil_scoped_release release;
+            if (object.empty()) throw InputError("object: expected a non-empty name");
+            if (views < 1 || views > 1000) throw InputError("views: expected 1 to 1000");
+            if (!(distance >= 0) || !std::isfinite(distance))
+              throw InputError("distance: expected metres >= 0");
+            if (!(depth_noise >= 0 && depth_noise < 1))
+              throw InputError("depth_noise: expected metres in [0, 1)");
+            const Mesh mesh = read_mesh(mesh_path, scale);
+            ViewSphereParams p;
+            p.views = views;
+            p.distance = distance;
+            p.depth_noise = depth_noise;
+            p.seed = seed;
+            const auto rendered = render_views(mesh, p);
+            std::unique_lock lock(d.mutex);
+            for (std::size_t i = 0; i < rendered.size(); ++i) {
+              if (rendered[i].points.size() < 10) continue;  // the camera sees almost nothing
+              const auto& e = rendered[i].eye;
+              char source[512];
+              std::snprintf(source, sizeof source, "%s view %zu/%d, camera at (%.3f, %.3f, %.3f) m",
+                            mesh_path.c_str(), i + 1, views, e.x(), e.y(), e.z());
+              added.push_back(view_info(add_view(d.db, object, rendered[i].points, e, source)));
+            }
+            lock.unlock();
+            py::gil_scoped_acquire acquire;
+            py::list out;
+            for (const ViewInfo& v : added) out.append(view_dict(v));
+            return out;
+          },
+          py::arg("object"), py::arg("mesh"), py::arg("scale"), py::arg("views"),
+          py::arg("distance"), py::arg("depth_noise"), py::arg("seed"));
+}
+
+}  // namespace proxseg::python

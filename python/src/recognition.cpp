@@ -1,0 +1,120 @@
+// proxseg.recognize() and recognize_object() [paper 3.4]: objects with names, scores and poses,
+// the per-point object ids, and for a scene the segmentation it started from.
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/io/output.hpp>
+#include <proxseg/io/params.hpp>
+
+#include <chrono>
+
+#include "bindings.hpp"
+#include "database.hpp"
+#include "segment.hpp"
+
+namespace proxseg::python {
+namespace {
+
+RecognitionParams recognition_params(const py::handle& params) {
+  RecognitionParams p = recognition_params_from_json(python_to_json(params));
+  validate(p);
+  return p;
+}
+
+const Database& non_empty(const SharedDatabase& d) {
+  if (d.db.views.empty()) throw InputError(d.db.dir + ": the database has no views");
+  return d.db;
+}
+
+// Per object: "report" (its entry of the CLI's report: name, scores, pose, view, runner-up,
+// times, colour in the picture) and "points" (numpy int32 frame point indices).
+py::list objects_list(std::vector<SceneObject>& objects, const Database& db) {
+  const nlohmann::json reports = recognition_candidates_json(objects, db);
+  py::list out;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    py::dict o;
+    o["report"] = json_to_python(reports[i]);
+    const auto n = static_cast<py::ssize_t>(objects[i].points.size());
+    o["points"] = to_numpy(std::move(objects[i].points), {n});
+    out.append(o);
+  }
+  return out;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+void bind_recognition(py::module_& m) {
+  m.def(
+      "_recognition_params",
+      [](const py::dict& overrides) {
+        RecognitionParams p = recognition_params_from_json(python_to_json(overrides));
+        validate(p);
+        return json_to_python(to_json(p));
+      },
+      py::arg("overrides"),
+      "The default recognition parameters with `overrides` (JSON layout) applied and checked.");
+  m.def(
+      "_recognize_scene",
+      [](const Frame& frame, const SharedDatabase& d, const py::dict& segment_params_dict,
+         const py::dict& params) {
+        const SegmentParams seg = segment_params(segment_params_dict);
+        const RecognitionParams rec = recognition_params(params);
+        SegmentResult segmentation;
+        std::vector<SceneObject> objects;
+        std::vector<std::uint32_t> ids;
+        double segment_ms = 0, recognize_ms = 0;
+        {
+          py::gil_scoped_release release;
+          std::shared_lock lock(d.mutex);
+          const Database& db = non_empty(d);
+          auto t = std::chrono::steady_clock::now();
+          segmentation = segment(frame, seg);
+          segment_ms = ms_since(t);
+          t = std::chrono::steady_clock::now();
+          objects = recognize_scene(frame, segmentation.selection, db, rec);
+          recognize_ms = ms_since(t);
+          ids = recognition_labels(frame, objects);
+        }
+        py::dict out;
+        {
+          std::shared_lock lock(d.mutex);  // no writer waits for the GIL while holding it
+          out["objects"] = objects_list(objects, d.db);
+        }
+        out["object_ids"] = to_numpy(std::move(ids), point_shape(frame));
+        out["segmentation"] = segmentation_dict(frame, seg, std::move(segmentation));
+        py::dict times;
+        times["segment"] = segment_ms;
+        times["recognize"] = recognize_ms;
+        out["times_ms"] = times;
+        return out;
+      },
+      py::arg("frame"), py::arg("db"), py::arg("segment_params"), py::arg("params"));
+  m.def(
+      "_recognize_object",
+      [](const Frame& cloud, const SharedDatabase& d, const py::dict& params) {
+        const RecognitionParams rec = recognition_params(params);
+        std::vector<SceneObject> objects;
+        double recognize_ms = 0;
+        {
+          py::gil_scoped_release release;
+          std::shared_lock lock(d.mutex);
+          const auto t = std::chrono::steady_clock::now();
+          objects.push_back(recognize_object(cloud, non_empty(d), rec));
+          recognize_ms = ms_since(t);
+        }
+        py::dict out;
+        {
+          std::shared_lock lock(d.mutex);
+          out["objects"] = objects_list(objects, d.db);
+        }
+        py::dict times;
+        times["recognize"] = recognize_ms;
+        out["times_ms"] = times;
+        return out;
+      },
+      py::arg("cloud"), py::arg("db"), py::arg("params"));
+}
+
+}  // namespace proxseg::python
