@@ -1,6 +1,7 @@
 // The pieces shared by the commands of the proxseg CLI (cli.hpp).
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
 
 #include <sys/resource.h>
@@ -9,6 +10,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -85,6 +87,12 @@ proxseg::Frame read_input(const SegmentOptions& o) {
   const proxseg::Intrinsics k =
       o.meta.empty() ? proxseg::read_intrinsics(o.intrinsics) : proxseg::read_ycb_meta(o.meta);
   return proxseg::read_rgbd(o.color, o.depth, k);
+}
+
+void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
+                           const proxseg::SegmentParams& params) {
+  if (const std::string off = proxseg::colourless_note(frame, params.features); !off.empty())
+    std::cerr << "proxseg: " << input << " has no colour: " << off << "\n";
 }
 
 void make_parent(const std::string& path) {

@@ -32,6 +32,11 @@ void check_scene_options(const SegmentOptions& o, const std::vector<std::string>
 // base (preset, config) < individual flags; validated.
 proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams base);
 proxseg::Frame read_input(const SegmentOptions& o);
+// One line on stderr when the input has no colour and that takes feature blocks off the
+// segmentation (colourless_note): "proxseg: INPUT has no colour: the colour and texture blocks
+// are off". Nothing otherwise.
+void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
+                           const proxseg::SegmentParams& params);
 // Creates the parent directory of path (InputError if it cannot).
 void make_parent(const std::string& path);
 

@@ -99,15 +99,20 @@ int run_add(const DbOptions& o) {
   } else if (o.accumulate) {
     proxseg::Frame all;
     std::string source;
+    // The union has colours only if every view has: one XYZ-only view makes it XYZ-only (a
+    // colour per point, or none).
+    bool coloured = true;
     for (const auto& file : o.views) {
       const proxseg::Frame f = proxseg::read_point_cloud(file);
+      coloured = coloured && f.coloured();
       for (std::size_t i = 0; i < f.size(); ++i)
         if (f.valid(i)) {
           all.xyz.push_back(f.xyz[i]);
-          all.rgb.push_back(f.rgb[i]);
+          if (coloured) all.rgb.push_back(f.rgb[i]);
         }
       source += (source.empty() ? "" : " + ") + file;
     }
+    if (!coloured) all.rgb.clear();
     all.width = static_cast<int>(all.xyz.size());
     all.height = 1;
     views.emplace_back(std::move(all), source);

@@ -170,6 +170,7 @@ int run_recognize(const RecognizeOptions& o) {
     frame = read_input(o);
     std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
               << frame.height << ")\n";
+    print_colourless_note(o.input, frame, seg);
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 

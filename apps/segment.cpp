@@ -134,6 +134,7 @@ int run_segment(const SegmentCommand& o) {
   const proxseg::Frame frame = read_input(o);
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
             << frame.height << ")\n";
+  print_colourless_note(o.input, frame, params);
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
   const nlohmann::json report = proxseg::write_segmentation(o.output, frame, params, result);
   if (const auto far = report["input"]["out_of_range_points"].get<std::size_t>(); far > 0)

@@ -67,9 +67,11 @@ typename pcl::PointCloud<Point>::Ptr to_pcl(const Frame& frame,
     q.y = frame.xyz[i].y();
     q.z = frame.xyz[i].z();
     if constexpr (!std::is_same_v<Point, pcl::PointXYZ>) {
-      q.r = frame.rgb[i][0];
-      q.g = frame.rgb[i][1];
-      q.b = frame.rgb[i][2];
+      // An XYZ-only frame: one grey for every point, so that only the geometry tells them apart.
+      const Rgb c = frame.coloured() ? frame.rgb[i] : Rgb{128, 128, 128};
+      q.r = c[0];
+      q.g = c[1];
+      q.b = c[2];
       q.a = 255;
     }
   }

@@ -86,7 +86,7 @@ bool answers(const char* what, F&& read) {
 inline void check_frame(const proxseg::Frame& f) {
   const bool ok = f.width >= 0 && f.height >= 1 &&
                   static_cast<std::size_t>(f.width) * f.height == f.xyz.size() &&
-                  f.rgb.size() == f.xyz.size() &&
+                  (f.rgb.empty() || f.rgb.size() == f.xyz.size()) &&  // no colour, or one each
                   (f.label.empty() || f.label.size() == f.xyz.size()) && f.valid_count() > 0;
   if (!ok) {
     std::fprintf(stderr, "inconsistent frame: %dx%d, %zu points, %zu colours, %zu labels\n",

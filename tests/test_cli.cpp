@@ -87,6 +87,67 @@ TEST(Cli, SegmentsARealSceneIntoThreeFiles) {
   const cv::Mat png = cv::imread(o.string() + ".png");
   EXPECT_EQ(png.cols, 640);
   EXPECT_EQ(png.rows, 480);
+  // A coloured scene: every block, and nothing to note.
+  EXPECT_TRUE(j["input"]["colour"].get<bool>());
+  EXPECT_EQ(j["features"], nlohmann::json({{"colour", true}, {"texture", true}, {"shape", true}}));
+  EXPECT_EQ(r.err.find("has no colour"), std::string::npos) << r.err;
+}
+
+namespace {
+// An XYZ-only copy of a cloud (the colour field dropped), under kTmp.
+std::string xyz_only(const std::string& path, const std::string& name) {
+  proxseg::Frame f = proxseg::read_pcd(path);
+  f.rgb.clear();
+  fs::create_directories(kTmp);
+  const std::string out = (kTmp / name).string();
+  proxseg::write_pcd(out, f, {});
+  EXPECT_FALSE(proxseg::read_pcd(out).coloured()) << out;
+  return out;
+}
+}  // namespace
+
+TEST(Cli, SegmentsAnXyzOnlyCloudWithoutColourAndTexture) {
+  const std::string input = xyz_only(learn0(), "learn0-xyz.pcd");
+  const fs::path o = kTmp / "xyz", dir = kTmp / "xyz-candidates";
+  fs::remove_all(dir);
+  for (const char* ext : {".pcd", ".png", ".json"}) fs::remove(o.string() + ext);
+  const CliRun r =
+      run("segment " + input + " -o " + o.string() + " --candidates-dir " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(
+      r.err.find("proxseg: " + input + " has no colour: the colour and texture blocks are off\n"),
+      std::string::npos)
+      << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(o.string() + ".json"));
+  EXPECT_FALSE(j["input"]["colour"].get<bool>());
+  EXPECT_FALSE(j["features"]["colour"].get<bool>());
+  EXPECT_FALSE(j["features"]["texture"].get<bool>());
+  EXPECT_TRUE(j["features"]["shape"].get<bool>());
+  EXPECT_EQ(j["features"]["note"],
+            "the input has no colour: the colour and texture blocks are off");
+  // The parameters are what was asked for; "features" is what was used.
+  EXPECT_TRUE(j["parameters"]["features"]["use_colour"].get<bool>());
+  EXPECT_GE(j["k"].get<int>(), 2);
+  const cv::Mat png = cv::imread(o.string() + ".png");
+  EXPECT_EQ(png.cols, 640);
+  EXPECT_EQ(png.rows, 480);
+  // The outputs invent no colour either.
+  const proxseg::Frame out = proxseg::read_pcd(o.string() + ".pcd");
+  EXPECT_FALSE(out.coloured());
+  EXPECT_EQ(out.label.size(), out.size());
+  std::size_t candidates = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_FALSE(proxseg::read_pcd(e.path().string()).coloured()) << e.path();
+    ++candidates;
+  }
+  EXPECT_EQ(candidates, j["selection"]["candidates"].get<std::size_t>());
+  EXPECT_GE(candidates, 1u);
+  // Asking for the blocks off already: nothing was taken off by the input, nothing to note.
+  const CliRun quiet =
+      run("segment " + input + " -o " + o.string() + " --no-colour --no-texture --json");
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("has no colour"), std::string::npos) << quiet.err;
+  EXPECT_FALSE(nlohmann::json::parse(quiet.out)["features"].contains("note"));
 }
 
 TEST(Cli, JsonOnStdoutConfigAndFlags) {
@@ -334,6 +395,51 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
                      "ransac_iters", bad);
   EXPECT_EQ(run("recognize --db " + db.string()).code, 2);
   EXPECT_EQ(run("db add " + db.string() + " --name x").code, 2);
+}
+
+// XYZ-only clouds in a database and against it: the milk carton without its (placeholder)
+// colour, recognised as one object and in its scene.
+TEST(Cli, RecognizesXyzOnlyClouds) {
+  const fs::path db = kTmp / "xyzdb";
+  fs::remove_all(db);
+  const std::string milk = xyz_only(kData + "/pcl/milk.pcd", "milk-xyz.pcd");
+  CliRun r = run("db add " + db.string() + " --name milk " + milk);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("no colour"), std::string::npos) << r.err;
+  r = run("db render " + db.string() + " --name can " + kData +
+          "/lmo/models/obj_000005.ply --views 4 --units mm");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // --accumulate over a coloured and an XYZ-only view: one view, without colour.
+  r = run("db add " + (kTmp / "xyzdb-acc").string() + " --name milk --accumulate " + kData +
+          "/pcl/milk.pcd " + milk);
+  fs::remove_all(kTmp / "xyzdb-acc");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("no colour"), std::string::npos) << r.err;
+
+  const fs::path o = kTmp / "xyz_object";
+  r = run("recognize --object " + milk + " --db " + db.string() + " -o " + o.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(r.out);
+  ASSERT_EQ(report["candidates"].size(), 1u);
+  EXPECT_EQ(report["candidates"][0]["name"], "milk");
+  EXPECT_GE(report["candidates"][0]["fitness"].get<double>(), 0.9);
+  EXPECT_FALSE(cv::imread(o.string() + ".png").empty());
+
+  // A whole XYZ-only scene: segmented without colour and texture, the carton still found.
+  const std::string scene =
+      xyz_only(kData + "/pcl/milk_cartoon_all_small_clorox.pcd", "milk-scene-xyz.pcd");
+  const fs::path s = kTmp / "xyz_scene";
+  r = run("recognize " + scene + " --db " + db.string() + " -o " + s.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find(scene + " has no colour: the colour and texture blocks are off"),
+            std::string::npos)
+      << r.err;
+  const auto scene_report = nlohmann::json::parse(r.out);
+  int found = 0;
+  for (const auto& c : scene_report["candidates"]) found += c["name"] == "milk";
+  EXPECT_EQ(found, 1);
+  EXPECT_FALSE(proxseg::read_pcd(s.string() + ".pcd", "object").coloured());
+  EXPECT_EQ(cv::imread(s.string() + ".png").rows, 480);
 }
 
 TEST(Cli, SegmentBatchWritesEverySceneAndReportsTheBadOnes) {

@@ -366,6 +366,43 @@ TEST(IoPcd, CorruptCompressedNeverCrashes) {
   EXPECT_GT(errors, 40);
 }
 
+// An XYZ-only cloud in each DATA kind: read with Frame::rgb empty (no made-up colour).
+TEST(IoPcd, XyzOnlyInEveryDataKindHasNoColour) {
+  const std::string ascii =
+      write_bytes("xyz_ascii.pcd", header("x y z", "4 4 4", "F F F", "1 1 1", 2, 1, 2, "ascii") +
+                                       "1 2 3\nnan nan nan\n");
+  std::string binary = header("x y z label", "4 4 4 4", "F F F U", "1 1 1 1", 2, 1, 2, "binary");
+  for (int i = 0; i < 2; ++i) {
+    append<float>(binary, 1.f + 3 * i);
+    append<float>(binary, 2.f + 3 * i);
+    append<float>(binary, 3.f + 3 * i);
+    append<std::uint32_t>(binary, 7u + i);
+  }
+  std::string raw;  // field by field: all x, all y, all z
+  for (float v : {1.f, 4.f, 2.f, 5.f, 3.f, 6.f}) append<float>(raw, v);
+  const std::string compressed =
+      header("x y z", "4 4 4", "F F F", "1 1 1", 2, 1, 2, "binary_compressed") +
+      compressed_block(lzf_literals(raw), static_cast<std::uint32_t>(raw.size()));
+  for (const auto& [name, text] :
+       {std::pair{"xyz_binary.pcd", binary}, std::pair{"xyz_compressed.pcd", compressed}}) {
+    const Frame f = proxseg::read_pcd(write_bytes(name, text));
+    EXPECT_FALSE(f.coloured()) << name;
+    EXPECT_TRUE(f.rgb.empty()) << name;
+    ASSERT_EQ(f.size(), 2u) << name;
+    EXPECT_EQ(f.xyz[0], Eigen::Vector3f(1, 2, 3)) << name;
+    EXPECT_EQ(f.xyz[1], Eigen::Vector3f(4, 5, 6)) << name;
+  }
+  EXPECT_EQ(proxseg::read_pcd(tmp_path("xyz_binary.pcd")).label,
+            (std::vector<std::uint32_t>{7, 8}));
+  const Frame a = proxseg::read_pcd(ascii);
+  EXPECT_FALSE(a.coloured());
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a.xyz[0], Eigen::Vector3f(1, 2, 3));
+  EXPECT_FALSE(a.valid(1));
+  // The same cloud with colours still reads them.
+  EXPECT_TRUE(proxseg::read_pcd(write_bytes("xyzrgb.pcd", binary_xyzrgb(2, 2))).coloured());
+}
+
 // ------------------------------------------------------------------------------------------------
 // Writing
 
@@ -405,6 +442,36 @@ TEST(IoWrite, PcdRoundTripOrganizedWithLabels) {
   // No temporary files left next to it.
   for (const auto& e : fs::directory_iterator(tmp_dir()))
     EXPECT_EQ(e.path().filename().string().find(".roundtrip.pcd.tmp"), std::string::npos);
+}
+
+TEST(IoWrite, PcdRoundTripWithoutColour) {
+  Frame f;
+  f.width = 2;
+  f.height = 2;
+  for (int i = 0; i < 4; ++i) f.xyz.emplace_back(0.5f * i, -0.25f * i, 1.0f + i);
+  const std::vector<std::uint32_t> labels = {3, 0, 1, 2};
+  const std::string path = tmp_path("roundtrip_xyz.pcd");
+  proxseg::write_pcd(path, f, {{"label", labels}});
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // x y z and the extra field only: no colour field, no made-up colour.
+  EXPECT_NE(text.find("FIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 2\n"
+                      "HEIGHT 2\n"),
+            std::string::npos)
+      << text.substr(0, 200);
+  EXPECT_EQ(text.size(), text.find("DATA binary\n") + 12 + 4 * 16);
+  const Frame g = proxseg::read_pcd(path);
+  EXPECT_FALSE(g.coloured());
+  EXPECT_EQ(g.width, 2);
+  EXPECT_EQ(g.height, 2);
+  EXPECT_EQ(g.xyz, f.xyz);
+  EXPECT_EQ(g.label, labels);
+  // A field named like the colour would be read back as colours; colours not one per point are
+  // a caller's mistake.
+  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgb", labels}}), std::invalid_argument);
+  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgba", labels}}), std::invalid_argument);
+  f.rgb = {{1, 2, 3}};
+  EXPECT_THROW(proxseg::pcd_bytes(f, {}), std::invalid_argument);
 }
 
 TEST(IoWrite, PcdRejectsWrongFieldLength) {
@@ -956,6 +1023,42 @@ TEST(IoImages, LabelPictureIsAPngOfThePixels) {
   }
 }
 
+// A frame without colours is drawn grey by depth: the nearer, the lighter; invalid pixels black.
+TEST(IoImages, ColourlessPicturesAreGreyByDepth) {
+  Frame f;
+  f.width = 7;
+  f.height = 5;
+  for (int i = 0; i < 35; ++i) f.xyz.emplace_back(0.01f * (i % 7), 0.01f * (i / 7), 1.0f + i / 7);
+  f.xyz[3] = Eigen::Vector3f(kNan, kNan, kNan);
+  ASSERT_FALSE(f.coloured());
+  std::vector<std::uint32_t> labels(35, 0);
+  for (int i = 28; i < 35; ++i) labels[i] = 1;
+  const std::string png = proxseg::label_image_png(f, labels);
+  const cv::Mat m =
+      cv::imdecode(std::vector<std::uint8_t>(png.begin(), png.end()), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(m.type(), CV_8UC3);
+  ASSERT_EQ(m.cols, 7);
+  ASSERT_EQ(m.rows, 5);
+  EXPECT_EQ(m.at<cv::Vec3b>(0, 3), cv::Vec3b(0, 0, 0));  // invalid
+  int previous = 256;
+  for (int v = 0; v < 4; ++v) {  // unlabelled rows, one depth each, further down the image
+    const cv::Vec3b c = m.at<cv::Vec3b>(v, 0);
+    EXPECT_EQ(c[0], c[1]) << v;
+    EXPECT_EQ(c[1], c[2]) << v;
+    EXPECT_LT(c[0], previous) << v;
+    EXPECT_GT(c[0], 0) << v;
+    previous = c[0];
+  }
+  // Unorganized: the points seen from the sensor, grey too (no colour to read).
+  f.height = 1;
+  f.width = 35;
+  const std::string cloud = proxseg::label_image_png(f, labels);
+  const cv::Mat r =
+      cv::imdecode(std::vector<std::uint8_t>(cloud.begin(), cloud.end()), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(r.cols, 640);
+  EXPECT_EQ(r.rows, 480);
+}
+
 TEST(IoIntrinsics, ReadsAndValidates) {
   const std::string ok =
       write_bytes("k.json", R"({"fx": 525, "fy": 526.5, "cx": 319.5, "cy": 239.5})");
@@ -1027,9 +1130,14 @@ TEST(IoErrors, HeaderProblems) {
   };
   check("no_xyz.pcd", header("x y rgb", "4 4 4", "F F F", "1 1 1", 1, 1, 1, "ascii") + "1 2 3\n",
         {"x/y/z"});
-  check("no_colour.pcd",
-        header("x y z intensity", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 4\n",
-        {"rgb"});
+  // No colour field is an XYZ-only cloud (IoPcd.XyzOnlyInEveryDataKindHasNoColour); one that is
+  // there but not a packed colour is still an error.
+  check("short_colour.pcd",
+        header("x y z rgb", "4 4 4 2", "F F F U", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 4\n",
+        {"rgb", "4 bytes"});
+  check("two_colours.pcd",
+        header("x y z rgba", "4 4 4 4", "F F F U", "1 1 1 2", 1, 1, 1, "ascii") + "1 2 3 4 5\n",
+        {"rgba", "COUNT 1"});
   check("points_mismatch.pcd",
         header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 4, 2, 7, "ascii"), {"POINTS", "8"});
   check("bad_line.pcd", "VERSION 0.7\nFIELDS x y z rgb\nHELLO world\n", {"line 3", "HELLO"});
@@ -1103,12 +1211,29 @@ TEST(IoErrors, DataProblems) {
         {"label"});
 }
 
-TEST(IoErrors, PlyWithoutColours) {
-  const std::string path =
+TEST(IoPly, WithoutColoursIsXyzOnly) {
+  const std::string ascii =
       write_bytes("nocolour.ply",
                   "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                  "property float z\nend_header\n0 0 0\n1 1 1\n");
-  expect_input_error([&] { proxseg::read_ply(path); }, {"nocolour.ply", "colour"});
+                  "property float z\nend_header\n0 0 0.5\n1 1 1\n");
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
+  for (int i = 0; i < 3; ++i)
+    for (float v : {0.1f * i, -0.2f * i, 1.0f + i}) append<float>(binary, v);
+  const Frame a = proxseg::read_ply(ascii);
+  EXPECT_FALSE(a.coloured());
+  EXPECT_EQ(a.height, 1);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a.xyz[0], Eigen::Vector3f(0, 0, 0.5f));
+  EXPECT_EQ(a.xyz[1], Eigen::Vector3f(1, 1, 1));
+  const Frame b = proxseg::read_point_cloud(write_bytes("nocolour_binary.ply", binary));
+  EXPECT_FALSE(b.coloured());
+  ASSERT_EQ(b.size(), 3u);
+  EXPECT_EQ(b.xyz[2], Eigen::Vector3f(0.2f, -0.4f, 3.0f));
+}
+
+TEST(IoErrors, PlyProblems) {
   const std::string garbage = write_bytes("garbage.ply", "not a ply file at all\n");
   expect_input_error([&] { proxseg::read_ply(garbage); }, {"garbage.ply"});
   // A vertex count the file cannot hold is rejected before anything is allocated.

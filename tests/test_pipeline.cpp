@@ -196,3 +196,58 @@ TEST(Pipeline, NoValidPointIsAnInputError) {
   f.rgb.assign(4, Rgb{0, 0, 0});
   EXPECT_THROW(segment(f, SegmentParams{}), InputError);
 }
+
+// An XYZ-only frame is segmented with the colour and texture blocks off: the same features and
+// labels as asking for them off on the coloured frame, not those of a frame painted one colour
+// (whose colour and texture blocks would be constant, not zero).
+TEST(Pipeline, ColourlessFrameSegmentsWithoutColourAndTexture) {
+  const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
+  ASSERT_TRUE(f.coloured());
+  SegmentParams off;
+  off.features.use_colour = false;
+  off.features.use_texture = false;
+  const SegmentResult expected = segment(f, off);
+  Frame xyz = f;
+  xyz.rgb.clear();
+  ASSERT_FALSE(xyz.coloured());
+  const SegmentResult r = segment(xyz, SegmentParams{});
+  expect_every_valid_point_labelled(xyz, r);
+  EXPECT_FALSE(r.blocks.colour);
+  EXPECT_FALSE(r.blocks.texture);
+  EXPECT_TRUE(r.blocks.shape);
+  EXPECT_EQ(r.blocks, expected.blocks);
+  EXPECT_EQ(r.features.leftCols(kColourDims + kTextureDims).cwiseAbs().maxCoeff(), 0.f);
+  EXPECT_EQ((r.features - expected.features).cwiseAbs().maxCoeff(), 0.f);
+  EXPECT_EQ(r.point_labels, expected.point_labels);
+  EXPECT_EQ(r.selection.instance, expected.selection.instance);
+  // The record of a coloured frame under the defaults: every block.
+  const FeatureBlocks all = feature_blocks(SegmentParams{}.features, true, true);
+  EXPECT_TRUE(all.colour && all.texture && all.shape);
+}
+
+TEST(Pipeline, ColourlessUnorganizedCloudIsLabelled) {
+  Frame f = read_pcd(data("pcl/milk.pcd"));
+  f.rgb.clear();
+  const SegmentResult r = segment(f, SegmentParams{});
+  expect_every_valid_point_labelled(f, r);
+  EXPECT_FALSE(r.blocks.colour);
+  EXPECT_FALSE(r.blocks.texture);
+  EXPECT_TRUE(r.blocks.shape);
+  EXPECT_GT(r.features.rightCols(kShapeDims).cwiseAbs().maxCoeff(), 0.f);
+  // With colours the unorganized cloud has colour but still no texture (no image grid).
+  const SegmentResult coloured = segment(read_pcd(data("pcl/milk.pcd")), SegmentParams{});
+  EXPECT_TRUE(coloured.blocks.colour);
+  EXPECT_FALSE(coloured.blocks.texture);
+}
+
+TEST(Pipeline, ColoursNotOnePerPointAreAnInputError) {
+  Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
+  f.rgb.resize(5);
+  try {
+    segment(f, SegmentParams{});
+    ADD_FAILURE() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("5 colours for 307200 points"), std::string::npos)
+        << e.what();
+  }
+}

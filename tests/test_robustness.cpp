@@ -180,7 +180,6 @@ TEST(Robustness, MissingOrWrongTypedFields) {
   const fs::path o = kTmp / "fields-out";
   const std::string tail = "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"no-colour.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n" + tail + "0 0 1\n"},
       {"no-z.pcd", "FIELDS x y rgb\nSIZE 4 4 4\nTYPE F F U\nCOUNT 1 1 1\n" + tail + "0 0 1\n"},
       {"integer-x.pcd",
        "FIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE U F F U\nCOUNT 1 1 1 1\n" + tail + "0 0 1 0\n"},
@@ -193,6 +192,25 @@ TEST(Robustness, MissingOrWrongTypedFields) {
            "0 0 1 0 1.5\n"}};
   for (const auto& [name, text] : cases)
     expect_input_error(segment(pcd_file(name, text), o), name, o);
+}
+
+// No colour field is no error: an XYZ-only cloud, segmented without the colour and texture blocks.
+TEST(Robustness, XyzOnlyCloud) {
+  const fs::path o = kTmp / "xyz-out";
+  const std::string input =
+      pcd_file("no-colour.pcd",
+               "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+               "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n0 0 1\n0.01 0 1\n");
+  const CliRun r = segment(input, o);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("no-colour.pcd has no colour: the colour block is off"), std::string::npos)
+      << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(o.string() + ".json"));
+  EXPECT_FALSE(j["input"]["colour"].get<bool>());
+  EXPECT_FALSE(j["features"]["colour"].get<bool>());
+  EXPECT_EQ(j["features"]["note"], "the input has no colour: the colour block is off");
+  EXPECT_TRUE(fs::exists(o.string() + ".png"));
+  EXPECT_TRUE(fs::exists(o.string() + ".pcd"));
 }
 
 TEST(Robustness, ColourAndDepthOfDifferentSizes) {

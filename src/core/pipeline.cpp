@@ -55,12 +55,37 @@ std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& gri
   return out;
 }
 
+// The feature parameters segment() works with: the requested ones with only the blocks it
+// computes switched on, so that voxel_features never reads colours the frame does not have and
+// balance_blocks weighs exactly the blocks that were computed.
+FeatureParams effective_features(const FeatureParams& requested, const FeatureBlocks& blocks) {
+  FeatureParams p = requested;
+  p.use_colour = blocks.colour;
+  p.use_texture = blocks.texture;
+  p.use_shape = blocks.shape;
+  return p;
+}
+
 }  // namespace
+
+FeatureBlocks feature_blocks(const FeatureParams& features, bool coloured, bool organized) {
+  FeatureBlocks b;
+  b.colour = features.use_colour && features.colour_weight > 0 && coloured;
+  b.texture = features.use_texture && features.texture_weight > 0 && coloured && organized;
+  b.shape = features.use_shape && features.shape_weight > 0;
+  return b;
+}
 
 SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   validate(params);
+  if (frame.coloured() && frame.rgb.size() != frame.size())
+    throw InputError("frame: " + std::to_string(frame.rgb.size()) + " colours for " +
+                     std::to_string(frame.size()) + " points (expected one per point, or none)");
   SegmentResult r;
   detail::Stopwatch watch, whole;
+  // An XYZ-only frame: the colour and texture blocks are off for this call, as if not asked for.
+  r.blocks = feature_blocks(params.features, frame.coloured(), frame.organized());
+  const FeatureParams features = effective_features(params.features, r.blocks);
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
   r.voxels = build_voxels(frame, params.voxels.voxel_size);
@@ -71,16 +96,15 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.times_ms.emplace_back("voxels", watch.lap());
 
   // 2. Features [3.1]: colour | texture | shape per voxel.
-  r.features = voxel_features(frame, r.voxels, r.clustered, params.features, params.threads);
+  r.features = voxel_features(frame, r.voxels, r.clustered, features, params.threads);
   r.times_ms.emplace_back("features", watch.lap());
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
   // The block weights were applied by voxel_features; balancing re-applies them after equalising.
   if (params.clustering.balance_blocks) {
-    const FeatureParams& fp = params.features;
-    balance_blocks(r.features, {{0, kColourDims, fp.colour_weight},
-                                {kColourDims, kTextureDims, fp.texture_weight},
-                                {kColourDims + kTextureDims, kShapeDims, fp.shape_weight}});
+    balance_blocks(r.features, {{0, kColourDims, features.colour_weight},
+                                {kColourDims, kTextureDims, features.texture_weight},
+                                {kColourDims + kTextureDims, kShapeDims, features.shape_weight}});
   }
   r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
                            params.clustering.pca_solver);

@@ -336,8 +336,8 @@ struct FieldData {
   const unsigned char* at(std::size_t i) const { return base + i * stride; }
 };
 
-// The fields a frame is read from: x, y, z (single floats), the packed colour and, when the
-// file has it, the integer label field.
+// The fields a frame is read from: x, y, z (single floats) and, when the file has them, the packed
+// colour (none: an XYZ-only cloud, Frame::rgb left empty) and the integer label field.
 struct PcdFields {
   const PcdField *x = nullptr, *y = nullptr, *z = nullptr, *colour = nullptr, *label = nullptr;
 };
@@ -354,8 +354,7 @@ PcdFields pcd_fields(const std::string& path, const PcdHeader& h, const std::str
       fail(path, "field " + c->name + " is not a single float (expected TYPE F, COUNT 1)");
   f.colour = find_field(path, h, "rgb");
   if (!f.colour) f.colour = find_field(path, h, "rgba");
-  if (!f.colour) fail(path, "has no colour field (expected an rgb or rgba field)");
-  if (f.colour->size != 4 || f.colour->count != 1)
+  if (f.colour && (f.colour->size != 4 || f.colour->count != 1))
     fail(path,
          "field " + f.colour->name + " is not 4 bytes (expected SIZE 4, COUNT 1: packed colour)");
   f.label = find_field(path, h, label_field.c_str());
@@ -383,7 +382,7 @@ void read_pcd_ascii(const std::string& path, const std::string& text, const PcdH
   const std::size_t n = static_cast<std::size_t>(h.points);
   const std::size_t avail = text.size() - h.data_start;
   frame.xyz.reserve(std::min(n, avail / 2 + 1));
-  frame.rgb.reserve(std::min(n, avail / 2 + 1));
+  if (f.colour) frame.rgb.reserve(std::min(n, avail / 2 + 1));
   if (f.label) frame.label.reserve(std::min(n, avail / 2 + 1));
   const std::string_view all(text);
   std::size_t pos = h.data_start, line_no = h.data_line;
@@ -408,20 +407,23 @@ void read_pcd_ascii(const std::string& path, const std::string& text, const PcdH
     };
     Eigen::Vector3f p(static_cast<float>(number(f.x)), static_cast<float>(number(f.y)),
                       static_cast<float>(number(f.z)));
-    std::uint32_t packed = 0;
-    const std::string_view ct = tok[f.colour->value_index];
-    if (f.colour->type == 'F') {
-      float c;
-      if (!parse_float(ct, c))
-        fail(path, where + ": " + f.colour->name + " value " + quote(ct) +
-                       " is not a number (expected a packed float colour)");
-      std::memcpy(&packed, &c, 4);
-    } else {
-      const double v = number(f.colour);
-      if (!(v >= -2147483648.0 && v <= 4294967295.0) || v != std::floor(v))
-        fail(path, where + ": " + f.colour->name + " value " + quote(ct) +
-                       " is not a 32-bit integer (expected a packed colour)");
-      packed = static_cast<std::uint32_t>(static_cast<std::int64_t>(v));
+    if (f.colour) {
+      std::uint32_t packed = 0;
+      const std::string_view ct = tok[f.colour->value_index];
+      if (f.colour->type == 'F') {
+        float c;
+        if (!parse_float(ct, c))
+          fail(path, where + ": " + f.colour->name + " value " + quote(ct) +
+                         " is not a number (expected a packed float colour)");
+        std::memcpy(&packed, &c, 4);
+      } else {
+        const double v = number(f.colour);
+        if (!(v >= -2147483648.0 && v <= 4294967295.0) || v != std::floor(v))
+          fail(path, where + ": " + f.colour->name + " value " + quote(ct) +
+                         " is not a 32-bit integer (expected a packed colour)");
+        packed = static_cast<std::uint32_t>(static_cast<std::int64_t>(v));
+      }
+      frame.rgb.push_back(unpack_rgb(packed));
     }
     if (f.label) {
       const double v = number(f.label);
@@ -431,7 +433,6 @@ void read_pcd_ascii(const std::string& path, const std::string& text, const PcdH
       frame.label.push_back(pcd_label(path, v, got));
     }
     frame.xyz.push_back(p);
-    frame.rgb.push_back(unpack_rgb(packed));
     ++got;
   }
   if (got != n)
@@ -492,14 +493,16 @@ void read_pcd_binary(const std::string& path, const std::string& text, const Pcd
     if (h.data == "binary") return {data + c->offset, h.point_size};
     return {buffer.data() + n * c->offset, c->count * static_cast<std::size_t>(c->size)};
   };
-  const FieldData dx = locate(f.x), dy = locate(f.y), dz = locate(f.z), dc = locate(f.colour);
+  const FieldData dx = locate(f.x), dy = locate(f.y), dz = locate(f.z);
   frame.xyz.resize(n);
-  frame.rgb.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n; ++i)
     frame.xyz[i] = Eigen::Vector3f(static_cast<float>(load_number(dx.at(i), 'F', f.x->size)),
                                    static_cast<float>(load_number(dy.at(i), 'F', f.y->size)),
                                    static_cast<float>(load_number(dz.at(i), 'F', f.z->size)));
-    frame.rgb[i] = unpack_rgb(load<std::uint32_t>(dc.at(i)));
+  if (f.colour) {
+    const FieldData dc = locate(f.colour);
+    frame.rgb.resize(n);
+    for (std::size_t i = 0; i < n; ++i) frame.rgb[i] = unpack_rgb(load<std::uint32_t>(dc.at(i)));
   }
   if (f.label) {
     const FieldData dl = locate(f.label);
@@ -674,9 +677,13 @@ Frame read_ply(const std::string& path) {
     }
   }
   if (!ok) fail(path, "cannot read PLY (expected an ascii or binary PLY with vertices)");
-  if (pc.points_.empty()) fail(path, "PLY has no vertices (expected points with colours)");
-  if (!pc.HasColors() || pc.colors_.size() != pc.points_.size())
-    fail(path, "PLY has no vertex colours (expected red, green, blue vertex properties)");
+  if (pc.points_.empty()) fail(path, "PLY has no vertices (expected at least one point)");
+  // No colours at all is an XYZ-only cloud (Frame::rgb left empty); some but not one per vertex
+  // is a broken file.
+  if (!pc.colors_.empty() && pc.colors_.size() != pc.points_.size())
+    fail(path, "PLY has " + std::to_string(pc.colors_.size()) + " vertex colours for " +
+                   std::to_string(pc.points_.size()) +
+                   " vertices (expected one per vertex, or none)");
   if (pc.points_.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     fail(path, "PLY has too many vertices (expected < 2^31)");
   Frame frame;
@@ -684,14 +691,14 @@ Frame read_ply(const std::string& path) {
   frame.width = static_cast<int>(n);
   frame.height = 1;
   frame.xyz.resize(n);
-  frame.rgb.resize(n);
+  frame.rgb.resize(pc.colors_.empty() ? 0 : n);
   auto to_u8 = [](double c) {
     if (!(c > 0)) return std::uint8_t{0};
     if (c >= 1) return std::uint8_t{255};
     return static_cast<std::uint8_t>(std::lround(c * 255.0));
   };
-  for (std::size_t i = 0; i < n; ++i) {
-    frame.xyz[i] = pc.points_[i].cast<float>();
+  for (std::size_t i = 0; i < n; ++i) frame.xyz[i] = pc.points_[i].cast<float>();
+  for (std::size_t i = 0; i < frame.rgb.size(); ++i) {
     const auto& c = pc.colors_[i];
     frame.rgb[i] = {to_u8(c.x()), to_u8(c.y()), to_u8(c.z())};
   }
@@ -877,7 +884,8 @@ Frame read_rgbd(const std::string& color_path, const std::string& depth_path, co
 
 std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields) {
   const std::size_t n = frame.xyz.size();
-  if (frame.rgb.size() != n)
+  const bool coloured = frame.coloured();  // else x y z only: no made-up colour in the file
+  if (coloured && frame.rgb.size() != n)
     throw std::invalid_argument("write_pcd: frame has " + std::to_string(n) + " points but " +
                                 std::to_string(frame.rgb.size()) + " colours");
   if (frame.width < 0 || frame.height < 1 ||
@@ -885,7 +893,9 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
     throw std::invalid_argument("write_pcd: frame is " + std::to_string(frame.width) + "x" +
                                 std::to_string(frame.height) + " but has " + std::to_string(n) +
                                 " points");
-  std::vector<std::string> names = {"x", "y", "z", "rgb"};
+  std::vector<std::string> names = {"x", "y", "z"};
+  if (coloured) names.push_back("rgb");
+  const std::size_t own = names.size();  // fields before the extra ones
   for (const auto& f : fields) {
     const bool ok_name =
         !f.name.empty() && std::all_of(f.name.begin(), f.name.end(),
@@ -895,6 +905,9 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
                                   "' is not a PCD field name (letters, digits, _)");
     if (std::find(names.begin(), names.end(), f.name) != names.end())
       throw std::invalid_argument("write_pcd: field name '" + f.name + "' is used twice");
+    // Even without colours: read_pcd would take such a field for the packed colour.
+    if (f.name == "rgb" || f.name == "rgba")
+      throw std::invalid_argument("write_pcd: field name '" + f.name + "' is the colour's");
     if (f.values.size() != n)
       throw std::invalid_argument("write_pcd: field '" + f.name + "' has " +
                                   std::to_string(f.values.size()) + " values for " +
@@ -905,8 +918,8 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
   for (const auto& nm : names) header += " " + nm;
   header += "\nSIZE";
   for (std::size_t i = 0; i < names.size(); ++i) header += " 4";
-  header += "\nTYPE F F F F";
-  for (std::size_t i = 0; i < fields.size(); ++i) header += " U";
+  header += "\nTYPE";
+  for (std::size_t i = 0; i < names.size(); ++i) header += i < own ? " F" : " U";
   header += "\nCOUNT";
   for (std::size_t i = 0; i < names.size(); ++i) header += " 1";
   header += "\nWIDTH " + std::to_string(frame.width) + "\nHEIGHT " + std::to_string(frame.height) +
@@ -917,11 +930,13 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
   char* out = bytes.data() + header.size();
   for (std::size_t i = 0; i < n; ++i, out += point_size) {
     std::memcpy(out, frame.xyz[i].data(), 12);
-    const auto& c = frame.rgb[i];
-    const std::uint32_t packed = (std::uint32_t{c[0]} << 16) | (std::uint32_t{c[1]} << 8) | c[2];
-    std::memcpy(out + 12, &packed, 4);  // same bits as PCL's packed float rgb
+    if (coloured) {
+      const auto& c = frame.rgb[i];
+      const std::uint32_t packed = (std::uint32_t{c[0]} << 16) | (std::uint32_t{c[1]} << 8) | c[2];
+      std::memcpy(out + 12, &packed, 4);  // same bits as PCL's packed float rgb
+    }
     for (std::size_t f = 0; f < fields.size(); ++f)
-      std::memcpy(out + 16 + 4 * f, &fields[f].values[i], 4);
+      std::memcpy(out + 4 * (own + f), &fields[f].values[i], 4);
   }
   return bytes;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -42,6 +43,34 @@ class LabelColours {
   std::map<std::uint32_t, cv::Vec3b> cache_;
 };
 
+// What the pictures show of each point itself: its colour, or on a frame without colours a grey
+// from its depth (nearer is lighter, invalid points black), so that the shapes still read under
+// the labels.
+class SceneShade {
+ public:
+  explicit SceneShade(const Frame& frame) : frame_(frame) {
+    if (frame.coloured()) return;
+    for (std::size_t i = 0; i < frame.size(); ++i)
+      if (frame.valid(i)) {
+        const float d = std::abs(frame.xyz[i].z());  // |z|: some clouds look down -z
+        near_ = std::min(near_, d);
+        far_ = std::max(far_, d);
+      }
+  }
+  Rgb operator()(std::size_t i) const {
+    if (frame_.coloured()) return frame_.rgb[i];
+    if (!frame_.valid(i)) return {0, 0, 0};
+    const float span = far_ - near_;
+    const float t = span > 0 ? (far_ - std::abs(frame_.xyz[i].z())) / span : 0.5f;
+    const auto v = static_cast<std::uint8_t>(std::lround(64 + 160 * std::clamp(t, 0.f, 1.f)));
+    return {v, v, v};
+  }
+
+ private:
+  const Frame& frame_;
+  float near_ = std::numeric_limits<float>::infinity(), far_ = 0;
+};
+
 cv::Vec3b blend(const Rgb& rgb, std::uint32_t label, LabelColours& colours) {
   const cv::Vec3b c = colours(label);
   return {static_cast<uchar>((rgb[2] + c[0]) / 2), static_cast<uchar>((rgb[1] + c[1]) / 2),
@@ -53,6 +82,7 @@ cv::Vec3b blend(const Rgb& rgb, std::uint32_t label, LabelColours& colours) {
 cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labels) {
   const int w = 640, h = 480;
   LabelColours colours;
+  const SceneShade shade(frame);
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(40, 40, 40));
   std::vector<float> depth(w * h, std::numeric_limits<float>::infinity());
   std::size_t in_front = 0, valid = 0;
@@ -83,7 +113,7 @@ cv::Mat render_points(const Frame& frame, const std::vector<std::uint32_t>& labe
         const int u = static_cast<int>(q.x()) + du, v = static_cast<int>(q.y()) + dv;
         if (u < 0 || v < 0 || u >= w || v >= h || z >= depth[v * w + u]) continue;
         depth[v * w + u] = z;
-        image.at<cv::Vec3b>(v, u) = blend(frame.rgb[i], labels[i], colours);
+        image.at<cv::Vec3b>(v, u) = blend(shade(i), labels[i], colours);
       }
   }
   return image;
@@ -134,11 +164,12 @@ std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>
   LabelColours colours;
   if (frame.organized()) {
     const int w = frame.width, h = frame.height;
+    const SceneShade shade(frame);
     image.create(h, w, CV_8UC3);
     for (int v = 0; v < h; ++v)
       for (int u = 0; u < w; ++u) {
         const int i = v * w + u;
-        const Rgb& c = frame.rgb[i];
+        const Rgb c = shade(i);
         // Invalid or unlabelled pixels are shown dimmed, labelled ones blended with their label.
         image.at<cv::Vec3b>(v, u) =
             labels[i] ? blend(c, labels[i], colours) : cv::Vec3b(c[2] / 3, c[1] / 3, c[0] / 3);
@@ -171,9 +202,15 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   j["input"] = {{"width", frame.width},
                 {"height", frame.height},
                 {"organized", frame.organized()},
+                {"colour", frame.coloured()},
                 {"points", frame.size()},
                 {"valid_points", frame.valid_count()},
                 {"out_of_range_points", out_of_range}};
+  // The blocks computed, which "parameters" alone does not tell: the input can take some off.
+  j["features"] = {
+      {"colour", r.blocks.colour}, {"texture", r.blocks.texture}, {"shape", r.blocks.shape}};
+  if (const std::string off = colourless_note(frame, params.features); !off.empty())
+    j["features"]["note"] = "the input has no colour: " + off;
   nlohmann::json times = nlohmann::json::object();
   for (const auto& [stage, ms] : r.times_ms) times[stage] = ms;
   times["total"] = r.total_ms;  // wall time of segment()
@@ -219,6 +256,17 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
                     {"candidates", objects}};
   j["candidates"] = candidates;
   return j;
+}
+
+std::string colourless_note(const Frame& frame, const FeatureParams& features) {
+  if (frame.coloured()) return "";
+  const FeatureBlocks asked = feature_blocks(features, true, frame.organized());
+  const FeatureBlocks got = feature_blocks(features, false, frame.organized());
+  const bool colour = asked.colour != got.colour, texture = asked.texture != got.texture;
+  if (colour && texture) return "the colour and texture blocks are off";
+  if (colour) return "the colour block is off";
+  if (texture) return "the texture block is off";
+  return "";
 }
 
 nlohmann::json build_info() {
@@ -440,9 +488,10 @@ cv::Mat recognition_image(const Frame& frame, const std::vector<SceneObject>& ob
                           const Database& db, cv::Size& scene_size) {
   const std::vector<Rgb> colours = recognition_colours(objects);
   const std::vector<int> owner = point_owners(frame, objects);
+  const SceneShade shade(frame);
   // An object's point over the scene: the scene's colour and the object's, mixed.
   const auto tint = [&](std::size_t i) {
-    const Rgb& c = frame.rgb[i];
+    const Rgb c = shade(i);
     if (owner[i] < 0) return cv::Vec3b(c[2] / 2, c[1] / 2, c[0] / 2);
     const Rgb& o = colours[owner[i]];
     return cv::Vec3b((2 * c[2] + 3 * o[2]) / 5, (2 * c[1] + 3 * o[1]) / 5,
@@ -595,7 +644,8 @@ std::vector<std::string> write_candidates(const std::string& dir, const Frame& f
       cloud.height = 1;
       for (int p : c.points) {
         cloud.xyz.push_back(frame.xyz[p]);
-        cloud.rgb.push_back(frame.rgb[p]);
+        // No made-up colour: a colourless candidate stays colourless (recognised by shape).
+        if (frame.coloured()) cloud.rgb.push_back(frame.rgb[p]);
       }
       const std::string path =
           (std::filesystem::path(dir) / ("candidate_" + std::to_string(c.instance) + ".pcd"))

@@ -24,9 +24,25 @@ struct SegmentParams {
   int threads = 0;  // 0 = all cores; results do not depend on it
 };
 
+// The feature blocks [3.1] a segmentation computes.
+struct FeatureBlocks {
+  bool colour = false, texture = false, shape = false;
+  bool operator==(const FeatureBlocks& o) const {
+    return colour == o.colour && texture == o.texture && shape == o.shape;
+  }
+  bool operator!=(const FeatureBlocks& o) const { return !(*this == o); }
+};
+
+// The blocks segment() computes under `features` for a frame with or without colours and image
+// grid: each one asked for (use_* with a weight > 0) that the frame can give. Colour needs the
+// frame's colours; so does texture (Gabor filters on the grey levels of the colour image), which
+// also needs the image grid.
+FeatureBlocks feature_blocks(const FeatureParams& features, bool coloured, bool organized);
+
 struct SegmentResult {
   VoxelGrid voxels;
   std::vector<int> clustered;               // voxels that were clustered (>= min_points_per_voxel)
+  FeatureBlocks blocks;                     // the blocks computed (feature_blocks)
   Eigen::MatrixXf features;                 // one row per clustered voxel, block-balanced
   FeatureSpace space;                       // principal axes the clustering works in
   std::vector<Centroid> initial_centroids;  // Algorithm 1
@@ -53,7 +69,9 @@ void validate(const SegmentParams& params);
 // everything the paper leaves open keeps its default). Throws InputError for an unknown name.
 SegmentParams preset(const std::string& name);
 
-// Segments the frame (validates the parameters first).
+// Segments the frame (validates the parameters first). A frame without colours (Frame::rgb empty)
+// is segmented without the colour and texture blocks; InputError if it has colours but not one
+// per point.
 SegmentResult segment(const Frame& frame, const SegmentParams& params);
 
 }  // namespace proxseg

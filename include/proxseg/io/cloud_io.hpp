@@ -10,11 +10,13 @@
 
 namespace proxseg {
 
-// PCD with fields x y z and rgb or rgba (any order, extra fields ignored); an optional
-// integer `label` field (or the field named label_field, e.g. "instance") is kept in
-// Frame::label. WIDTH/HEIGHT come from the header.
+// PCD with fields x y z and optionally rgb or rgba (any order, extra fields ignored); without a
+// colour field (an XYZ-only cloud) Frame::rgb is empty, while a colour field that is not 4 bytes
+// is an InputError. An optional integer `label` field (or the field named label_field, e.g.
+// "instance") is kept in Frame::label. WIDTH/HEIGHT come from the header.
 Frame read_pcd(const std::string& path, const std::string& label_field = "label");
-// PLY point cloud or mesh vertices with colours (unorganized: height 1).
+// PLY point cloud or mesh vertices (unorganized: height 1), with their colours if the file has
+// them (red, green, blue vertex properties), else Frame::rgb empty.
 Frame read_ply(const std::string& path);
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
@@ -35,12 +37,14 @@ Frame read_rgbd(const std::string& color_path, const std::string& depth_path, co
 // (YCB-Video -label.png). InputError naming the file otherwise.
 std::vector<std::uint8_t> read_label_image(const std::string& path, int width, int height);
 
-// One extra per-point unsigned field written after x y z rgb (e.g. "label", "instance").
+// One extra per-point unsigned field written after x y z (rgb) (e.g. "label", "instance"; not
+// "rgb" or "rgba").
 struct PointField {
   std::string name;
   std::vector<std::uint32_t> values;  // one per point
 };
-// A binary PCD (organized if the frame is) with fields x y z rgb and the extra fields, in memory.
+// A binary PCD (organized if the frame is) with fields x y z rgb and the extra fields, in memory;
+// a frame without colours (Frame::rgb empty) is written as x y z and the extra fields.
 std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields);
 // Writes pcd_bytes to path. Atomic: the file appears whole or not at all.
 void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields);

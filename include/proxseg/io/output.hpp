@@ -14,20 +14,28 @@ namespace proxseg {
 // of the CLI carries it under "proxseg", beside its parameters.
 nlohmann::json build_info();
 
-// The report written to PREFIX.json: proxseg's build_info, parameters, stage times, counts,
+// The report written to PREFIX.json: proxseg's build_info, parameters, the input (with "colour":
+// whether it has colours), the feature blocks computed ("features": colour, texture, shape, and a
+// "note" when the input's lack of colour took blocks off, colourless_note), stage times, counts,
 // energies, label sizes.
 nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& params,
                                    const SegmentResult& result);
+// Which of the blocks `features` asks for a frame without colours takes off: "the colour and
+// texture blocks are off", "the colour block is off" (no texture asked for, or no image grid) or
+// "the texture block is off"; "" for a frame with colours or when none of them was asked for.
+std::string colourless_note(const Frame& frame, const FeatureParams& features);
 // A picture of the labels: the colour image with labels blended in and boundaries drawn
-// (organized input), or the points rendered from the sensor origin (unorganized input). PNG bytes.
+// (organized input), or the points rendered from the sensor origin (unorganized input); a frame
+// without colours shows grey by depth instead (nearer is lighter). PNG bytes.
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
 // Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all. Returns the
 // report written to PREFIX.json.
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result);
 
-// Writes one unorganized PCD (x y z rgb) per candidate object (not the background) to
-// DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the paths written.
+// Writes one unorganized PCD (x y z rgb; x y z for a frame without colours) per candidate object
+// (not the background) to DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the
+// paths written.
 std::vector<std::string> write_candidates(const std::string& dir, const Frame& frame,
                                           const SegmentResult& result);
 
@@ -52,9 +60,9 @@ std::vector<std::uint32_t> recognition_labels(const Frame& frame,
                                               const std::vector<SceneObject>& objects);
 // The scene with every object in its colour (its frame points tinted and outlined, a named
 // object's aligned model view drawn over it) and its id at its centroid (organized input: over
-// the colour image, frame size; unorganized input: the points seen from the sensor, 640x480),
-// beside a legend on the right: per object its colour swatch, id, name and best score, in
-// report order (more columns when they do not fit the height). PNG bytes.
+// the colour image, frame size, or grey by depth without colours; unorganized input: the points
+// seen from the sensor, 640x480), beside a legend on the right: per object its colour swatch, id,
+// name and best score, in report order (more columns when they do not fit the height). PNG bytes.
 std::string recognition_image_png(const Frame& frame, const std::vector<SceneObject>& objects,
                                   const Database& db);
 // Writes PREFIX.json (the report with "picture", and for a scene "labels", added), PREFIX.png and
