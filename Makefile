@@ -14,15 +14,19 @@
 #   make bench-scenes  only the scene benchmark: segmentation + recognition end to end on
 #                   generated tabletops with known, look-alike and unknown objects (dev and
 #                   report splits), proxseg vs PCL Euclidean clusters + Open3D
+#   make bench-python  only the Python module's overhead: segment() from Python against C++, and a
+#                   100-frame loop in one process against 100 CLI calls
 #   make bench-dbscale  only the database-size benchmark: recognition cost and accuracy with
 #                   64-512 views (LINEMOD + distractors), shortlist against every view
 BUILD ?= build
+# The Python the module is built for (python/CMakeLists.txt prefers Debian's).
+PYTHON ?= /usr/bin/python3
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python format clean
 
 all: build
 
@@ -61,7 +65,7 @@ SAN_FLAGS = -O2 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-san
 test-sanitize: deps
 	@cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" \
 	  -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
-	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_SHARED=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
+	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_SHARED=OFF -DPROXSEG_PYTHON=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
 	@cmake --build $(SAN_BUILD) -j $(JOBS)
 	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
@@ -77,7 +81,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec bench-mem bench-scenes bench-dbscale
+bench: bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
@@ -132,6 +136,14 @@ bench-dbscale: configure
 	  --all-tests 40 --seed 1 -o $(DBSCALE_OUT)
 	@bash scripts/update-results.sh docs/results.md dbscale $(DBSCALE_OUT)/dbscale.md
 	@echo "docs/results.md (dbscale) regenerated; every object and row in $(DBSCALE_OUT)/dbscale.json"
+
+# The Python module's overhead against the C++ library and the CLI (bench/python_bench.py):
+# a few minutes.
+bench-python: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target _proxseg segment_loop proxseg_cli
+	@$(PYTHON) bench/python_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
+	@bash scripts/update-results.sh docs/results.md python $(BUILD)/bench-out/python.md
+	@echo "docs/results.md (python) regenerated; raw figures in $(BUILD)/bench-out/python.json"
 
 format:
 	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp

@@ -9,7 +9,14 @@
 #     builds examples/segment_scene.cpp against the installed files only, with
 #     find_package(proxseg) or with pkg-config, runs it on a real scene, and checks that it writes
 #     the same labelled PCD and picture as the installed CLI and a report with the version and
-#     the commit.
+#     the commit;
+#   consumer_test.sh python PREFIX PYTHON_DIR PYTHON SCENE.pcd
+#     imports the installed Python module (PYTHONPATH=PREFIX/PYTHON_DIR), checks that it and the
+#     libraries it loads come from PREFIX, shows help(proxseg.segment), and segments the scene
+#     with the labels of the installed CLI;
+#   consumer_test.sh deb BUILD_DIR PYTHON
+#     makes the .deb (cpack) into a temporary directory, unpacks it, and imports the module from
+#     the unpacked usr/ (libraries found through the module's relative RPATH).
 set -euo pipefail
 mode=${1:-}
 case $mode in
@@ -40,9 +47,52 @@ case $mode in
     echo "consumer: $count installed headers compile on their own (core with Eigen only)"
     exit 0
     ;;
+  python)
+    prefix=$2 pydir=$3 python=$4 scene=$5
+    work=$(mktemp -d)
+    trap 'rm -rf "$work"' EXIT
+    PYTHONPATH=$prefix/$pydir "$python" -c "import proxseg; help(proxseg.segment)" >"$work/help.txt"
+    grep -q "segment(frame" "$work/help.txt"
+    LD_LIBRARY_PATH= "$prefix/bin/proxseg" segment "$scene" -o "$work/cli" >/dev/null 2>&1
+    PYTHONPATH=$prefix/$pydir "$python" - "$prefix" "$scene" "$work/cli.pcd" <<'PY'
+import sys
+import numpy as np
+import proxseg
+prefix, scene, cli = sys.argv[1:]
+assert proxseg.__file__.startswith(prefix), proxseg.__file__
+libs = {l.split()[-1] for l in open("/proc/self/maps") if "libproxseg_" in l}
+assert libs and all(l.startswith(prefix) for l in libs), libs
+result = proxseg.segment(proxseg.read_point_cloud(scene))
+assert np.array_equal(result.labels, proxseg.read_point_cloud(cli).label)
+print(f"consumer: import proxseg {proxseg.__version__} from {prefix} ({len(libs)} libraries "
+      f"there); labels equal the installed CLI's")
+PY
+    exit 0
+    ;;
+  deb)
+    build=$2 python=$3
+    work=$(mktemp -d)
+    trap 'rm -rf "$work"' EXIT
+    (cd "$build" && cpack -G DEB -B "$work/package" >/dev/null)
+    deb=$(find "$work/package" -maxdepth 1 -name 'proxseg_*.deb')
+    dpkg-deb -x "$deb" "$work/root"
+    dpkg-deb -f "$deb" Depends | grep -q python3-numpy
+    pydir=$(dirname "$(find "$work/root" -name '__init__.py' -path '*/proxseg/*')")
+    PYTHONPATH=$(dirname "$pydir") "$python" -c "import proxseg; help(proxseg.segment)" |
+      grep -q "segment(frame"
+    PYTHONPATH=$(dirname "$pydir") "$python" - "$work/root" <<'PY'
+import sys
+import proxseg
+root = sys.argv[1]
+libs = {l.split()[-1] for l in open("/proc/self/maps") if "libproxseg_" in l}
+assert libs and all(l.startswith(root) for l in libs), libs
+print(f"consumer: the .deb's module imports from {proxseg.__file__} with its own libraries")
+PY
+    exit 0
+    ;;
   cmake | pkg-config) prefix=$2 src=$3 scene=$4 ;;
   *)
-    echo "consumer_test.sh: expected install, cmake or pkg-config, got '$mode'" >&2
+    echo "consumer_test.sh: expected install, headers, cmake, pkg-config, python or deb, got '$mode'" >&2
     exit 2
     ;;
 esac

@@ -80,7 +80,7 @@ class Database:
             float(v) for v in viewpoint)
         if len(vp) != 3:
             raise ValueError(f"viewpoint: {len(vp)} values (expected x, y, z in metres or None)")
-        return self._db.add_view(object, frame, np.array(vp, dtype=np.float64), source)
+        return self._db.add_view(object, frame, vp, source)
 
     def render(self, object: str, mesh: PathLike, *, views: int = 8, units: str = "m",
                distance: float = 0.0, depth_noise: float = 0.0, seed: int = 1

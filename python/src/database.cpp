@@ -3,6 +3,7 @@
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/database.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -111,7 +112,8 @@ void bind_database(py::module_& m) {
       .def(
           "add_view",
           [](SharedDatabase& d, const std::string& object, const Frame& points,
-             const Eigen::Vector3d& viewpoint, const std::string& source) {
+             const std::array<double, 3>& sensor, const std::string& source) {
+            const Eigen::Vector3d viewpoint(sensor[0], sensor[1], sensor[2]);
             ViewInfo added;
             {
               py::gil_scoped_release release;

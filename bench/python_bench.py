@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""The Python module's overhead (`make bench-python`), beside the C++ library and the CLI in the
+same run, as ratios (the machine is shared and noisy: the two sides alternate).
+
+1. One call: proxseg.segment() from Python against proxseg::segment() from C++ (bench/
+   segment_loop), on the same 640x480 mOSD scenes, rounds alternating. Also the overhead within
+   each Python call: its wall time minus the C++ segment()'s own (report "times_ms.total").
+2. A loop of 100 frames: read + segment in one Python process against 100 `proxseg segment`
+   CLI processes (each writes its PCD, PNG and JSON), in alternating blocks of 10; and the CLI
+   with its labels read back into Python (the file round trip a Python user of the CLI pays).
+
+    python3 bench/python_bench.py --build build --data ../shared/data --out build/bench-out
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--data", default="../shared/data")
+    ap.add_argument("--out", default="build/bench-out")
+    ap.add_argument("--scenes", type=int, default=6, help="scenes of part 1")
+    ap.add_argument("--rounds", type=int, default=5, help="alternations of part 1")
+    ap.add_argument("--calls", type=int, default=3, help="calls per scene per round")
+    ap.add_argument("--frames", type=int, default=100, help="frames of part 2")
+    args = ap.parse_args()
+    build = Path(args.build).resolve()
+    sys.path.insert(0, str(build / "python"))
+    import proxseg
+
+    learn = sorted(Path(args.data, "mosd/learn").glob("*.pcd"), key=lambda p: int(p.stem[5:]))
+    scenes = learn[:: max(1, len(learn) // args.scenes)][: args.scenes]
+
+    # 1. One call, C++ and Python alternating.
+    frames = {str(s): proxseg.read_point_cloud(s) for s in scenes}
+    for f in frames.values():
+        proxseg.segment(f)  # warm-up (OpenMP threads, caches)
+    cpp, py, inner = [], [], []
+    for _ in range(args.rounds):
+        out = subprocess.run([str(build / "bench/segment_loop"), str(args.calls + 1),
+                              *map(str, scenes)], capture_output=True, text=True, check=True)
+        for line in out.stdout.splitlines():
+            cpp.extend(json.loads(line)["ms"][1:])  # the first call of each scene warms up
+        for f in frames.values():
+            for _ in range(args.calls):
+                t = time.perf_counter()
+                r = proxseg.segment(f)
+                ms = (time.perf_counter() - t) * 1000
+                py.append(ms)
+                inner.append(ms - r.times_ms["total"])
+    one_call = {"cpp_median_ms": statistics.median(cpp), "python_median_ms": statistics.median(py),
+                "ratio": statistics.median(py) / statistics.median(cpp),
+                "python_overhead_median_ms": statistics.median(inner),
+                "python_overhead_share": statistics.median(inner) / statistics.median(py),
+                "calls_each": len(py)}
+
+    # 2. 100 frames: one Python process against 100 CLI processes, in blocks of 10.
+    paths = [learn[i % len(learn)] for i in range(args.frames)]
+    cli, loop, cli_read = 0.0, 0.0, 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        for b in range(0, len(paths), 10):
+            block = paths[b:b + 10]
+            t = time.perf_counter()
+            for i, p in enumerate(block):
+                subprocess.run([str(build / "proxseg"), "segment", str(p), "-o",
+                                f"{tmp}/f{b + i}"], capture_output=True, check=True)
+            cli += time.perf_counter() - t
+            t = time.perf_counter()
+            for i in range(len(block)):
+                proxseg.read_point_cloud(f"{tmp}/f{b + i}.pcd").label
+            cli_read += time.perf_counter() - t
+            t = time.perf_counter()
+            for p in block:
+                proxseg.segment(proxseg.read_point_cloud(p))
+            loop += time.perf_counter() - t
+    hundred = {"frames": len(paths), "cli_s": cli, "cli_with_read_back_s": cli + cli_read,
+               "python_loop_s": loop, "speedup": cli / loop,
+               "speedup_with_read_back": (cli + cli_read) / loop}
+
+    result = {"one_call": one_call, "loop": hundred, "proxseg": proxseg.build_info(),
+              "cores": os.cpu_count(), "scenes": [s.name for s in scenes]}
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    Path(args.out, "python.json").write_text(json.dumps(result, indent=2) + "\n")
+    md = f"""Python module against the C++ library and the CLI (`make bench-python`, one run, {os.cpu_count()} cores, commit {result['proxseg']['commit'][:7]}).
+
+| measure | C++ / CLI | Python | ratio |
+|---|---|---|---|
+| segment() on a 640x480 mOSD frame, median ms ({one_call['calls_each']} calls each, {len(scenes)} scenes) | {one_call['cpp_median_ms']:.1f} | {one_call['python_median_ms']:.1f} | Python / C++ = {one_call['ratio']:.3f} |
+| overhead inside a Python call (its wall time minus the C++ segment()'s), median ms | - | {one_call['python_overhead_median_ms']:.2f} | {100 * one_call['python_overhead_share']:.1f} % of the call |
+| {hundred['frames']} frames, read + segment, s | {hundred['cli_s']:.1f} (CLI processes) | {hundred['python_loop_s']:.1f} (one process) | CLI / Python = {hundred['speedup']:.2f}x |
+| the same, the CLI's labels read back into Python, s | {hundred['cli_with_read_back_s']:.1f} | {hundred['python_loop_s']:.1f} | {hundred['speedup_with_read_back']:.2f}x |
+"""
+    Path(args.out, "python.md").write_text(md)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()
