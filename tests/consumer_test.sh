@@ -78,8 +78,9 @@ PY
     dpkg-deb -x "$deb" "$work/root"
     dpkg-deb -f "$deb" Depends | grep -q python3-numpy
     pydir=$(dirname "$(find "$work/root" -name '__init__.py' -path '*/proxseg/*')")
-    PYTHONPATH=$(dirname "$pydir") "$python" -c "import proxseg; help(proxseg.segment)" |
-      grep -q "segment(frame"
+    PYTHONPATH=$(dirname "$pydir") "$python" -c "import proxseg; help(proxseg.segment)" \
+      >"$work/help.txt"
+    grep -q "segment(frame" "$work/help.txt"
     PYTHONPATH=$(dirname "$pydir") "$python" - "$work/root" <<'PY'
 import sys
 import proxseg

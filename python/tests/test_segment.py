@@ -35,7 +35,7 @@ def test_labels_equal_the_cli_byte_for_byte(scene, cli_learn):
 def test_result_describes_the_candidates():
     frame = proxseg.read_point_cloud(data("mosd/learn/learn0.pcd"))
     r = proxseg.segment(frame)
-    assert r.k == len(np.unique(r.labels[r.labels > 0]))
+    assert r.labels.max() <= r.k and r.labels.min() == 0
     assert len(r.candidates) >= 1 and len(r.background) >= 1
     xyz = frame.xyz.reshape(-1, 3)
     for c in r.candidates + r.background:
