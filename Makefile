@@ -146,7 +146,7 @@ bench-python: configure
 	@echo "docs/results.md (python) regenerated; raw figures in $(BUILD)/bench-out/python.json"
 
 format:
-	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp
+	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp python/src/*.cpp python/src/*.hpp
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)

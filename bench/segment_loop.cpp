@@ -1,6 +1,7 @@
 // The C++ side of the Python overhead benchmark (bench/python_bench.py, `make bench-python`):
 // reads each scene once, then times `rounds` calls of proxseg::segment() on it, in process.
 // Prints one JSON line per scene: {"scene": ..., "ms": [per call wall time]}.
+#include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/cloud_io.hpp>
 
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
     std::cerr << "usage: segment_loop ROUNDS SCENE.pcd...\n";
     return 2;
   }
+  proxseg::keep_freed_memory();  // as the README asks of programs that segment frame after frame
   const int rounds = std::atoi(argv[1]);
   const proxseg::SegmentParams params = proxseg::preset("default");
   for (int a = 2; a < argc; ++a) {

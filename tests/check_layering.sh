@@ -37,6 +37,12 @@ for part in "${parts[@]}"; do
   done < <(grep -nE '^\s*#\s*include\s*"[^"]*/' "${files[@]}" /dev/null | grep -vE '"util/[a-z_]+\.hpp"' || true)
 done
 
+# The Python bindings build on core and io only (python/, docs/architecture.md).
+while IFS= read -r hit; do
+  echo "$hit  <- python/ includes eval" >&2
+  bad=1
+done < <(grep -nE '^\s*#\s*include\s*<proxseg/eval/' python/src/*.[ch]pp /dev/null 2>/dev/null || true)
+
 # Private helpers shared by all parts depend on none of them.
 while IFS= read -r hit; do
   echo "$hit  <- a src/util helper includes a proxseg header" >&2

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # That check_layering.sh fails on each kind of wrong-way include: copies of the tree with one
 # injected (a core header including io, io including eval, a core source including an io
-# private file, a src/util helper including a proxseg header), each must be reported with its
+# private file, a src/util helper including a proxseg header, the Python bindings including
+# eval), each must be reported with its
 # file, and the untouched copy must pass.
 # Usage: tests/layering_test.sh SOURCE_DIR
 set -euo pipefail
@@ -14,6 +15,8 @@ fresh() {
   rm -rf "$work/tree"
   mkdir -p "$work/tree"
   cp -r "$src/include" "$src/src" "$work/tree/"
+  mkdir -p "$work/tree/python"
+  cp -r "$src/python/src" "$work/tree/python/"
 }
 
 expect_fail() {  # FILE LINE-TO-ADD
@@ -35,4 +38,5 @@ expect_fail src/core/selection.cpp '#include <proxseg/eval/scene_eval.hpp>'
 expect_fail include/proxseg/io/output.hpp '#include <proxseg/eval/rec_eval.hpp>'
 expect_fail src/core/features.cpp '#include "../io/image_io.hpp"'
 expect_fail src/util/stopwatch.hpp '#include <proxseg/core/frame.hpp>'
+expect_fail python/src/segment.cpp '#include <proxseg/eval/metrics.hpp>'
 echo "layering_test: all injected wrong-way includes were caught"

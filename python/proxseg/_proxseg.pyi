@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+_keeps_freed_memory: bool
 
 def build_info() -> Dict[str, str]: ...
 

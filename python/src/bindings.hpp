@@ -3,10 +3,10 @@
 #pragma once
 #include <proxseg/core/frame.hpp>
 
-#include <nlohmann/json.hpp>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <utility>

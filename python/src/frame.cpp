@@ -151,18 +151,19 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
             return to_numpy(std::vector<std::uint32_t>(f.label), point_shape(f));
           },
           "The file's per-point label field (read_point_cloud's label_field), or None.")
-      .def_property_readonly("width", [](const Frame& f) { return f.width; },
-                             "Image columns; the number of points when unorganized.")
-      .def_property_readonly("height", [](const Frame& f) { return f.height; },
-                             "Image rows; 1 when unorganized.")
+      .def_property_readonly(
+          "width", [](const Frame& f) { return f.width; },
+          "Image columns; the number of points when unorganized.")
+      .def_property_readonly(
+          "height", [](const Frame& f) { return f.height; }, "Image rows; 1 when unorganized.")
       .def_property_readonly("organized", &Frame::organized, "Whether the points form an image.")
-      .def_property_readonly("coloured", [](const Frame& f) { return !f.rgb.empty(); },
-                             "Whether the frame has colours.")
+      .def_property_readonly(
+          "coloured", [](const Frame& f) { return !f.rgb.empty(); },
+          "Whether the frame has colours.")
       .def_property_readonly(
           "shape", [](const Frame& f) { return py::tuple(py::cast(point_shape(f))); },
           "(H, W) when organized, else (N,): the shape of per-point results.")
-      .def_property_readonly("valid_count", &Frame::valid_count,
-                             "Points with finite coordinates.")
+      .def_property_readonly("valid_count", &Frame::valid_count, "Points with finite coordinates.")
       .def("__len__", &Frame::size)
       .def("__repr__", [](const Frame& f) {
         return "<proxseg.Frame " + std::to_string(f.width) + "x" + std::to_string(f.height) +

@@ -1,11 +1,14 @@
 // proxseg._proxseg: the extension under the Python package proxseg (python/proxseg/). The
 // package's Python layer turns parameters, Open3D clouds and results into Python's habits; this
 // layer converts numpy arrays, releases the GIL around the computation and maps errors.
+#include <proxseg/core/memory.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/output.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 #include "bindings.hpp"
@@ -74,7 +77,8 @@ nlohmann::json from_python(const py::handle& v, const std::string& where) {
   if (py::hasattr(v, "__float__") && py::hasattr(v, "dtype")) {
     const std::string kind = py::str(v.attr("dtype").attr("kind"));
     if (kind == "b") return v.cast<bool>();
-    if (kind == "i" || kind == "u") return py::int_(py::reinterpret_borrow<py::object>(v)).cast<std::int64_t>();
+    if (kind == "i" || kind == "u")
+      return py::int_(py::reinterpret_borrow<py::object>(v)).cast<std::int64_t>();
     return py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
   }
   throw InputError((where.empty() ? std::string("parameters") : where) + ": " +
@@ -99,8 +103,7 @@ PYBIND11_MODULE(_proxseg, m) {
   m.doc() = "proxseg's compiled core; use the package `proxseg`, which wraps it.";
   m.attr("__version__") = PROXSEG_VERSION;
   m.def(
-      "build_info",
-      [] { return json_to_python(proxseg::build_info()); },
+      "build_info", [] { return json_to_python(proxseg::build_info()); },
       "{'version': ..., 'commit': ...}: what built this module (echoed in every report).");
 
   // A file the system refuses -> OSError; any other bad input -> ValueError. FileError derives
@@ -116,6 +119,16 @@ PYBIND11_MODULE(_proxseg, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
+
+  // A process that segments frame after frame keeps the memory segment() frees for the next
+  // frame, as the CLI does (core/memory.hpp): without it each call page-faults its buffers in
+  // again, which made segment() from Python 1.6 times the C++ call's time (docs/results.md,
+  // Python). Import is this module's start-up; PROXSEG_KEEP_FREED_MEMORY=0 leaves the
+  // allocator as it is.
+  const char* keep = std::getenv("PROXSEG_KEEP_FREED_MEMORY");
+  const bool keeps = keep == nullptr || std::strcmp(keep, "0") != 0;
+  if (keeps) proxseg::keep_freed_memory();
+  m.attr("_keeps_freed_memory") = keeps;
 
   bind_frame(m);
   bind_segment(m);

@@ -1006,7 +1006,8 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
   // targets: refused before anything is written.
   for (const auto& [path, bytes] : files) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) fail_file(path, "cannot write (a directory of that name exists)");
+    if (fs::is_directory(path, ec))
+      fail_file(path, "cannot write (a directory of that name exists)");
   }
   std::vector<fs::path> temps;
   std::size_t renamed = 0;
