@@ -196,15 +196,18 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   j["parameters"] = to_json(params);
   // Finite points too far out to voxelise (|x| / voxel size beyond 1e9) are left unlabelled like
   // invalid ones; counted here so that they are not dropped silently.
-  std::size_t out_of_range = 0;
-  for (std::size_t i = 0; i < frame.size() && i < r.voxels.voxel_of_point.size(); ++i)
-    out_of_range += frame.valid(i) && r.voxels.voxel_of_point[i] < 0;
+  std::size_t valid = 0, out_of_range = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.valid(i)) continue;
+    ++valid;
+    out_of_range += i < r.voxels.voxel_of_point.size() && r.voxels.voxel_of_point[i] < 0;
+  }
   j["input"] = {{"width", frame.width},
                 {"height", frame.height},
                 {"organized", frame.organized()},
                 {"colour", frame.coloured()},
                 {"points", frame.size()},
-                {"valid_points", frame.valid_count()},
+                {"valid_points", valid},
                 {"out_of_range_points", out_of_range}};
   // The blocks computed, which "parameters" alone does not tell: the input can take some off.
   j["features"] = {
