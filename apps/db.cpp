@@ -57,21 +57,7 @@ proxseg::Database open_for_adding(const DbOptions& o) {
   if (o.voxel_size) d.voxel_size = *o.voxel_size;
   if (o.normal_radius) d.normal_radius = *o.normal_radius;
   if (!o.fpfh_radii.empty()) d.fpfh_radii = o.fpfh_radii;
-  if (!(d.voxel_size > 0) || !std::isfinite(d.voxel_size))
-    throw InputError("--voxel-size: expected a positive size in metres");
-  if (!(d.normal_radius > 0) || !std::isfinite(d.normal_radius))
-    throw InputError("--normal-radius: expected a positive radius in metres");
-  for (double r : d.fpfh_radii)
-    if (!(r > 0) || !std::isfinite(r)) throw InputError("--fpfh-radii: expected positive radii");
-  proxseg::Database db = proxseg::open_database(o.dir, d);
-  const bool given = o.voxel_size || o.normal_radius || !o.fpfh_radii.empty();
-  if (given && !db.views.empty() &&
-      (db.descriptor.voxel_size != d.voxel_size || db.descriptor.normal_radius != d.normal_radius ||
-       db.descriptor.fpfh_radii != d.fpfh_radii))
-    throw InputError(o.dir +
-                     ": the database exists with other descriptor parameters (see `proxseg db "
-                     "info`); --voxel-size, --normal-radius and --fpfh-radii apply to a new one");
-  return db;
+  return proxseg::open_database(o.dir, d, o.voxel_size || o.normal_radius || !o.fpfh_radii.empty());
 }
 
 void report(const proxseg::ModelView& v) {

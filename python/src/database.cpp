@@ -13,18 +13,13 @@
 namespace proxseg::python {
 namespace {
 
+// NaN or empty: the default.
 DescriptorParams descriptor_params(double voxel_size, double normal_radius,
                                    const std::vector<double>& fpfh_radii) {
   DescriptorParams d;
   if (!std::isnan(voxel_size)) d.voxel_size = voxel_size;
   if (!std::isnan(normal_radius)) d.normal_radius = normal_radius;
   if (!fpfh_radii.empty()) d.fpfh_radii = fpfh_radii;
-  if (!(d.voxel_size > 0) || !std::isfinite(d.voxel_size))
-    throw InputError("voxel_size: expected a positive size in metres");
-  if (!(d.normal_radius > 0) || !std::isfinite(d.normal_radius))
-    throw InputError("normal_radius: expected a positive radius in metres");
-  for (double r : d.fpfh_radii)
-    if (!(r > 0) || !std::isfinite(r)) throw InputError("fpfh_radii: expected positive radii");
   return d;
 }
 
@@ -61,16 +56,8 @@ void bind_database(py::module_& m) {
              if (create) {
                const bool given =
                    !std::isnan(voxel_size) || !std::isnan(normal_radius) || !fpfh_radii.empty();
-               const DescriptorParams d = descriptor_params(voxel_size, normal_radius, fpfh_radii);
-               db->db = open_database(path, d);
-               if (given && !db->db.views.empty() &&
-                   (db->db.descriptor.voxel_size != d.voxel_size ||
-                    db->db.descriptor.normal_radius != d.normal_radius ||
-                    db->db.descriptor.fpfh_radii != d.fpfh_radii))
-                 throw InputError(path +
-                                  ": the database exists with other descriptor parameters (see "
-                                  "Database.info()); voxel_size, normal_radius and fpfh_radii "
-                                  "apply to a new one");
+               db->db = open_database(
+                   path, descriptor_params(voxel_size, normal_radius, fpfh_radii), given);
              } else {
                db->db = load_database(path);
              }

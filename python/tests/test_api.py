@@ -13,7 +13,8 @@ STUB = Path(proxseg.__file__).with_name("_proxseg.pyi")
 
 def stub_names():
     text = STUB.read_text()
-    top = set(re.findall(r"^(?:def|class) (\w+)", text, re.M)) | {"__version__"}
+    top = set(re.findall(r"^(?:def|class) (\w+)", text, re.M))
+    top |= set(re.findall(r"^(\w+): ", text, re.M))  # module attributes
     members = {}
     for cls, body in re.findall(r"^class (\w+).*?:\n((?:    .*\n|\n)*)", text, re.M):
         members[cls] = set(re.findall(r"def (\w+)", body))
@@ -23,6 +24,7 @@ def stub_names():
 def test_the_stubs_name_exactly_what_the_extension_has():
     top, members = stub_names()
     actual = {n for n in dir(_proxseg) if not n.startswith("__")} | {"__version__"}
+    assert "__version__" in top
     assert top == actual
     for cls, names in members.items():
         have = {n for n in dir(getattr(_proxseg, cls))

@@ -4,6 +4,7 @@
 #include <proxseg/io/database.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -241,8 +242,26 @@ Database load_database(const std::string& dir) {
   return db;
 }
 
-Database open_database(const std::string& dir, const DescriptorParams& descriptor) {
-  if (fs::exists(fs::path(dir) / "index.json")) return load_database(dir);
+Database open_database(const std::string& dir, const DescriptorParams& descriptor,
+                       bool descriptor_given) {
+  if (!(descriptor.voxel_size > 0) || !std::isfinite(descriptor.voxel_size))
+    throw InputError("voxel_size: expected a positive size in metres");
+  if (!(descriptor.normal_radius > 0) || !std::isfinite(descriptor.normal_radius))
+    throw InputError("normal_radius: expected a positive radius in metres");
+  if (descriptor.fpfh_radii.empty()) throw InputError("fpfh_radii: expected at least one radius");
+  for (double r : descriptor.fpfh_radii)
+    if (!(r > 0) || !std::isfinite(r)) throw InputError("fpfh_radii: expected positive radii");
+  if (fs::exists(fs::path(dir) / "index.json")) {
+    Database db = load_database(dir);
+    const DescriptorParams& d = db.descriptor;
+    if (descriptor_given && !db.views.empty() &&
+        (d.voxel_size != descriptor.voxel_size || d.normal_radius != descriptor.normal_radius ||
+         d.fpfh_radii != descriptor.fpfh_radii))
+      throw InputError(dir +
+                       ": the database exists with other descriptor parameters (see its info); "
+                       "voxel_size, normal_radius and fpfh_radii apply to a new one");
+    return db;
+  }
   Database db;
   db.dir = dir;
   db.descriptor = descriptor;

@@ -15,8 +15,12 @@ namespace proxseg {
 // and what is wrong (missing view, stale or truncated cache, bad index field).
 Database load_database(const std::string& dir);
 // The database in DIR if it has an index; otherwise a new empty one with these descriptor
-// parameters (nothing is written until a view is added).
-Database open_database(const std::string& dir, const DescriptorParams& descriptor);
+// parameters (nothing is written until a view is added). The descriptor is checked (InputError
+// naming voxel_size, normal_radius or fpfh_radii). descriptor_given: the caller chose it, so a
+// database that exists with other descriptor parameters is an InputError (they apply to a new
+// one only) rather than opened with its own.
+Database open_database(const std::string& dir, const DescriptorParams& descriptor,
+                       bool descriptor_given = false);
 
 // Describes one view (points in the model frame, viewpoint = sensor position in that frame,
 // NaN for a full model), writes its PCD and cache, appends it and rewrites the index. Every file
