@@ -1,6 +1,7 @@
 """proxseg: training-free segmentation and recognition of objects in RGB-D point clouds.
 
-The method of "proxseg" (paper sections 3.1-3.4): voxels, colour / texture / shape features,
+After Lodi Rizzini et al., "Unsupervised Range Image Segmentation and Object Recognition Using
+Feature Proximity and Markov Random Field" (sections 3.1-3.4): voxels, colour / texture / shape features,
 an initial clustering (Algorithm 1) with k-means, a Potts MRF solved by graph cuts, the selection
 of candidate objects, and their recognition against a database of model views (FPFH, RANSAC,
 ICP). Everything runs in this process, with numpy arrays in and out; the results equal the
@@ -14,7 +15,8 @@ ICP). Everything runs in this process, with numpy arrays in and out; the results
 
 Errors: ValueError for bad input or parameters, OSError for files that cannot be read or
 written, TypeError for arguments of the wrong kind. The computation releases the GIL; results do
-not depend on the number of threads.
+not depend on the number of threads. Importing the module keeps freed memory in the process for
+the next frame, as the CLI does (PROXSEG_KEEP_FREED_MEMORY=0 before the import: not).
 """
 
 from ._proxseg import Frame, __version__, build_info

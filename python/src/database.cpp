@@ -104,7 +104,6 @@ void bind_database(py::module_& m) {
             ViewInfo added;
             {
               py::gil_scoped_release release;
-              if (object.empty()) throw InputError("object: expected a non-empty name");
               if (points.valid_count() == 0) throw InputError("points: no valid points");
               std::unique_lock lock(d.mutex);
               added = view_info(add_view(d.db, object, points, viewpoint, source));
@@ -118,7 +117,9 @@ void bind_database(py::module_& m) {
              double scale, int views, double distance, double depth_noise, std::uint32_t seed) {
             std::vector<ViewInfo> added;
             py::gil_scoped_release release;
-            if (object.empty()) throw InputError("object: expected a non-empty name");
+            // The name is checked by add_view() too; here before the rendering's work.
+            if (object.empty() || object == "unknown")
+              throw InputError("object name: expected a non-empty name other than \"unknown\"");
             if (views < 1 || views > 1000) throw InputError("views: expected 1 to 1000");
             if (!(distance >= 0) || !std::isfinite(distance))
               throw InputError("distance: expected metres >= 0");

@@ -99,8 +99,10 @@ def test_database_errors(tmp_path):
     empty = proxseg.Database(tmp_path / "new", create=True)
     with pytest.raises(ValueError, match="the database has no views"):
         proxseg.recognize_object(data("pcl/milk.pcd"), empty)
-    with pytest.raises(ValueError, match="object: expected a non-empty name"):
+    with pytest.raises(ValueError, match="object name: expected a non-empty name"):
         empty.add_view("", np.zeros((3, 3), np.float32))
+    with pytest.raises(ValueError, match="object name: expected a non-empty name"):
+        empty.render("unknown", data("lmo/models/obj_000001.ply"))
     with pytest.raises(ValueError, match="viewpoint"):
         empty.add_view("a", np.zeros((3, 3), np.float32), viewpoint=(0, 0))
     with pytest.raises(ValueError, match="voxel_size: expected a positive size"):

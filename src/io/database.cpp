@@ -271,9 +271,9 @@ Database open_database(const std::string& dir, const DescriptorParams& descripto
 const ModelView& add_view(Database& db, const std::string& object, const Frame& points,
                           const Eigen::Vector3d& viewpoint, const std::string& source) {
   if (object.empty() || object == "unknown")
-    throw InputError("--name: expected a non-empty object name other than \"unknown\"");
+    throw InputError("object name: expected a non-empty name other than \"unknown\"");
   for (unsigned char c : object)
-    if (c < 32) throw InputError("--name: control characters are not allowed");
+    if (c < 32) throw InputError("object name: control characters are not allowed");
   std::vector<Eigen::Vector3d> xyz;
   std::vector<Rgb> rgb;
   for (std::size_t i = 0; i < points.size(); ++i)
