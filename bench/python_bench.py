@@ -29,7 +29,7 @@ def main():
     ap.add_argument("--data", default="../shared/data")
     ap.add_argument("--out", default="build/bench-out")
     ap.add_argument("--scenes", type=int, default=6, help="scenes of part 1")
-    ap.add_argument("--rounds", type=int, default=5, help="alternations of part 1")
+    ap.add_argument("--rounds", type=int, default=8, help="alternations of part 1")
     ap.add_argument("--calls", type=int, default=3, help="calls per scene per round")
     ap.add_argument("--frames", type=int, default=100, help="frames of part 2")
     args = ap.parse_args()
