@@ -2,9 +2,10 @@
 """The Python module's overhead (`make bench-python`), beside the C++ library and the CLI in the
 same run, as ratios (the machine is shared and noisy: the two sides alternate).
 
-1. One call: proxseg.segment() from Python against proxseg::segment() from C++ (bench/
-   segment_loop), on the same 640x480 mOSD scenes, rounds alternating. Also the overhead within
-   each Python call: its wall time minus the C++ segment()'s own (report "times_ms.total").
+1. One call: proxseg.segment() from Python against proxseg::segment() from a C++ process (bench/
+   segment_loop), on the same 640x480 mOSD scenes, alternating call by call. Also the overhead
+   within each Python call: its wall time minus the C++ segment()'s own (report
+   "times_ms.total", which leaves out the destruction of segment()'s locals).
 2. A loop of 100 frames: read + segment in one Python process against 100 `proxseg segment`
    CLI processes (each writes its PCD, PNG and JSON), in alternating blocks of 10; and the CLI
    with its labels read back into Python (the file round trip a Python user of the CLI pays).
@@ -29,8 +30,8 @@ def main():
     ap.add_argument("--data", default="../shared/data")
     ap.add_argument("--out", default="build/bench-out")
     ap.add_argument("--scenes", type=int, default=6, help="scenes of part 1")
-    ap.add_argument("--rounds", type=int, default=8, help="alternations of part 1")
-    ap.add_argument("--calls", type=int, default=3, help="calls per scene per round")
+    ap.add_argument("--rounds", type=int, default=8, help="rounds over the scenes of part 1")
+    ap.add_argument("--calls", type=int, default=3, help="paired calls per scene per round")
     ap.add_argument("--frames", type=int, default=100, help="frames of part 2")
     args = ap.parse_args()
     build = Path(args.build).resolve()
@@ -40,25 +41,36 @@ def main():
     learn = sorted(Path(args.data, "mosd/learn").glob("*.pcd"), key=lambda p: int(p.stem[5:]))
     scenes = learn[:: max(1, len(learn) // args.scenes)][: args.scenes]
 
-    # 1. One call, C++ and Python alternating.
-    frames = {str(s): proxseg.read_point_cloud(s) for s in scenes}
-    for f in frames.values():
-        proxseg.segment(f)  # warm-up (OpenMP threads, caches)
-    cpp, py, inner = [], [], []
+    # 1. One call, C++ and Python alternating call by call on the same scene.
+    frames = [proxseg.read_point_cloud(s) for s in scenes]
+    cxx = subprocess.Popen([str(build / "bench/segment_loop"), *map(str, scenes)],
+                           stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+
+    def cpp_call(i):
+        cxx.stdin.write(f"{i}\n")
+        cxx.stdin.flush()
+        return float(cxx.stdout.readline().split()[0])
+
+    for i, f in enumerate(frames):  # warm-up of both (OpenMP threads, caches, the heap)
+        cpp_call(i)
+        proxseg.segment(f)
+    cpp, py, inner, ratios = [], [], [], []
     for _ in range(args.rounds):
-        out = subprocess.run([str(build / "bench/segment_loop"), str(args.calls + 1),
-                              *map(str, scenes)], capture_output=True, text=True, check=True)
-        for line in out.stdout.splitlines():
-            cpp.extend(json.loads(line)["ms"][1:])  # the first call of each scene warms up
-        for f in frames.values():
+        for i, f in enumerate(frames):
             for _ in range(args.calls):
+                c = cpp_call(i)
                 t = time.perf_counter()
                 r = proxseg.segment(f)
                 ms = (time.perf_counter() - t) * 1000
+                cpp.append(c)
                 py.append(ms)
                 inner.append(ms - r.times_ms["total"])
+                ratios.append(ms / c)
+    cxx.stdin.close()
+    cxx.wait()
     one_call = {"cpp_median_ms": statistics.median(cpp), "python_median_ms": statistics.median(py),
                 "ratio": statistics.median(py) / statistics.median(cpp),
+                "paired_ratio_median": statistics.median(ratios),
                 "python_overhead_median_ms": statistics.median(inner),
                 "python_overhead_share": statistics.median(inner) / statistics.median(py),
                 "calls_each": len(py)}
@@ -96,14 +108,16 @@ Python module against the C++ library and the CLI (`make bench-python`, one run,
 
 | measure | C++ / CLI | Python | ratio |
 |---|---|---|---|
-| segment() on a 640x480 mOSD frame, median ms ({one_call['calls_each']} calls each, {len(scenes)} scenes) | {one_call['cpp_median_ms']:.1f} | {one_call['python_median_ms']:.1f} | Python / C++ = {one_call['ratio']:.3f} |
+| segment() on a 640x480 mOSD frame, median ms ({one_call['calls_each']} calls each, {len(scenes)} scenes) | {one_call['cpp_median_ms']:.1f} | {one_call['python_median_ms']:.1f} | Python / C++ = {one_call['ratio']:.3f} (median of the paired calls' ratios: {one_call['paired_ratio_median']:.3f}) |
 | overhead inside a Python call (its wall time minus the C++ segment()'s), median ms | - | {one_call['python_overhead_median_ms']:.2f} | {100 * one_call['python_overhead_share']:.1f} % of the call |
 | {hundred['frames']} frames, read + segment, s | {hundred['cli_s']:.1f} (CLI processes) | {hundred['python_loop_s']:.1f} (one process) | CLI / Python = {hundred['speedup']:.2f}x |
 | the same, the CLI's labels read back into Python, s | {hundred['cli_with_read_back_s']:.1f} | {hundred['python_loop_s']:.1f} | {hundred['speedup_with_read_back']:.2f}x |
 
 The C++ side calls `keep_freed_memory()` as the README asks of programs that segment frame after
 frame; `import proxseg` does the same (without it the Python call took 1.6 times the C++ one).
-The C++ and Python rounds alternate; the first call of each scene in each C++ process is left out.
+C++ and Python alternate call by call on the same scene (after one warm-up call of each per
+scene); "overhead inside a Python call" is its wall time minus segment()'s own total, which leaves
+out the destruction of segment()'s locals and so counts them as overhead.
 """
     Path(args.out, "python.md").write_text(md)
     print(md)

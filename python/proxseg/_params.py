@@ -131,7 +131,8 @@ class RecognitionParams(_Section):
         super().__init__(resolve_recognition_params(None, overrides), "")
 
 
-_SEGMENT_DEFAULTS: Dict[str, Dict[str, Any]] = {}
+# Preset trees by name, and ("checked", name) -> the checked tree segment() passes on unchanged.
+_SEGMENT_DEFAULTS: Dict[Any, Dict[str, Any]] = {}
 
 
 def _preset_tree(preset: str) -> Dict[str, Any]:
@@ -152,6 +153,11 @@ def resolve_segment_params(params: Any, preset: Optional[str],
                            overrides: Mapping[str, Any]) -> Dict[str, Any]:
     """The complete, checked segmentation parameters: ``preset`` (default "default"), then
     ``params`` (SegmentParams or a dict, possibly partial), then ``overrides``."""
+    if params is None and not overrides:  # a preset as it is: checked once (read-only, shared)
+        key = ("checked", preset or "default")
+        if key not in _SEGMENT_DEFAULTS:
+            _SEGMENT_DEFAULTS[key] = _proxseg._segment_params(preset or "default", {})
+        return _SEGMENT_DEFAULTS[key]
     if isinstance(params, SegmentParams) and preset is None:
         tree = params.to_dict()
     else:

@@ -3,6 +3,7 @@ pose [paper 3.4, Algorithms 2-3]."""
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional
 
@@ -143,7 +144,7 @@ def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
     return RecognitionResult(
         objects=[_object(o) for o in raw["objects"]], object_ids=ids,
         segmentation=segmentation_result(raw["segmentation"]), times_ms=dict(raw["times_ms"]),
-        params={"segmentation": _params(seg, SegmentParams),
+        params={"segmentation": _params(copy.deepcopy(seg), SegmentParams),
                 "recognition": _params(rec, RecognitionParams)})
 
 

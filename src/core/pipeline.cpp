@@ -55,6 +55,22 @@ std::vector<std::uint32_t> label_points(const Frame& frame, const VoxelGrid& gri
   return out;
 }
 
+// Points per label as label_points() gives them ([0]: unlabelled, 1..k), counted per voxel: every
+// point of a voxel takes its source's label. The report needs them for every frame.
+std::vector<std::size_t> label_sizes(const Frame& frame, const VoxelGrid& grid,
+                                     const std::vector<int>& source, const std::vector<int>& labels,
+                                     int k) {
+  std::vector<std::size_t> sizes(static_cast<std::size_t>(k) + 1, 0);
+  std::size_t labelled = 0;
+  for (std::size_t v = 0; v < grid.size(); ++v)
+    if (source[v] >= 0) {
+      sizes[static_cast<std::size_t>(labels[source[v]]) + 1] += grid.points[v].size();
+      labelled += grid.points[v].size();
+    }
+  sizes[0] = frame.size() - labelled;
+  return sizes;
+}
+
 // The feature parameters segment() works with: the requested ones with only the blocks it
 // computes switched on, so that voxel_features never reads colours the frame does not have and
 // balance_blocks weighs exactly the blocks that were computed.
@@ -156,6 +172,7 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
     // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
     const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
     r.point_labels = label_points(frame, r.voxels, source, r.labels);
+    r.label_sizes = label_sizes(frame, r.voxels, source, r.labels, r.k());
     r.point_labels_kmeans = params.mrf.enabled
                                 ? label_points(frame, r.voxels, source, r.labels_kmeans)
                                 : r.point_labels;

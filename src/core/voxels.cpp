@@ -99,6 +99,7 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
   const double inv = 1.0 / voxel_size;
   for (std::size_t i = 0; i < frame.size(); ++i) {
     if (!frame.valid(i)) continue;
+    ++grid.valid_points;
     const Eigen::Vector3f& p = frame.xyz[i];
     Eigen::Vector3i c;
     if (!floor_within(p.x() * inv, c.x()) || !floor_within(p.y() * inv, c.y()) ||
@@ -107,6 +108,7 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
     cells.push_back(c);
     point.push_back(static_cast<int>(i));
   }
+  grid.voxelised_points = cells.size();
   // Sorted by cell, then by point index: voxels and their point lists come out in a canonical
   // order.
   const KeyPacker packer(cells);

@@ -53,6 +53,7 @@ struct SegmentResult {
   int kmeans_iterations = 0, mrf_cycles = 0;
   std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k
   std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
+  std::vector<std::size_t> label_sizes;                  // points per label: [0] unlabelled, 1..k
   Selection selection;                                   // clusters -> candidates [3.3]
   std::vector<std::pair<std::string, double>> times_ms;  // per stage, in pipeline order
   // Stages that ran on a second thread beside the ones above (the image-grid geometry of the

@@ -17,6 +17,8 @@ struct VoxelGrid {
   std::vector<std::vector<int>> points;      // point indices in each voxel (ascending)
   std::vector<std::vector<int>> neighbours;  // occupied 26-neighbours (ascending, symmetric)
   std::vector<int> voxel_of_point;           // per point; -1 for invalid points
+  std::size_t valid_points = 0;              // finite points of the frame
+  std::size_t voxelised_points = 0;  // of those, the ones in a voxel (the rest lie too far out)
   std::size_t size() const { return keys.size(); }
 };
 
