@@ -5,7 +5,12 @@
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
 
+#include <proxseg/io/frame_source.hpp>
+#include <proxseg/io/output.hpp>
+
 #include <CLI/CLI.hpp>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,9 +19,18 @@
 
 namespace cli {
 
+// The batch flags of `segment` and `recognize` (batch.cpp, docs/batch.md).
+struct BatchOptions {
+  std::vector<std::string> batch;  // --batch SOURCE...: folders, list files, globs, clouds
+  std::string shard;               // --shard I/N
+  bool resume = false;
+  proxseg::RgbdNaming naming;  // --color-pattern, --depth-pattern, --meta-pattern (+ --intrinsics)
+};
+
 // The scene input and the segmentation flags of `segment` and `recognize`.
-struct SegmentOptions {
+struct SegmentOptions : BatchOptions {
   std::string input, color, depth, intrinsics, meta;
+  std::string outputs = "pcd,png,json";  // --outputs
   std::string preset = "default";
   bool no_mrf = false;
   std::optional<std::string> mrf_method;
@@ -40,6 +54,22 @@ void print_colourless_note(const std::string& input, const proxseg::Frame& frame
 // Creates the parent directory of path (InputError if it cannot).
 void make_parent(const std::string& path);
 
+// --outputs: proxseg::parse_outputs, a usage error when the list is wrong.
+proxseg::OutputSet outputs_option(const std::string& list);
+// --batch and what goes with it (--shard, --resume, the RGB-D naming patterns).
+void add_batch_options(CLI::App* cmd, BatchOptions& o);
+// Usage checks of a batch: no single-scene input beside --batch, a well-formed --shard.
+void check_batch_options(const SegmentOptions& o);
+// Runs job over the frames of o.batch (this shard's; with --resume, those not yet finished) in
+// natural order, with a progress bar: each row goes to OUT/<summary>.jsonl as it is done, and the
+// run's summary to OUT/<summary>.json (proxseg::summarize), also on stdout with --json. header
+// holds the command's "command", "parameters" (and "database"); the rest is added here. An
+// interrupt stops between frames. Returns the exit code: 0, 1 when a frame failed,
+// kInterruptedExit.
+int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
+              nlohmann::json header,
+              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job);
+
 // Interrupts (SIGINT, SIGTERM) during batch work: after catch_interrupts(), the first one only
 // sets interrupted(), so that the batch stops between items with whole output files and writes
 // a summary of what was done; a second one ends the process at once (the default action).
@@ -48,17 +78,21 @@ bool interrupted();
 // Exit code of a batch stopped by an interrupt (128 + SIGINT, the shell's convention).
 constexpr int kInterruptedExit = 130;
 
-// Resident memory of this process now, and its peak so far, in MiB (Linux /proc, getrusage).
-double rss_mib();
-double peak_rss_mib();
-
 // `proxseg segment`
 struct SegmentCommand : SegmentOptions {
-  std::string output, config, candidates_dir, batch;
+  std::string output, config, candidates_dir;
   bool json = false;
 };
 void add_segment(CLI::App& app, SegmentCommand& o);
 int run_segment(const SegmentCommand& o);
+
+// `proxseg summary OUT`: merges a batch's shard summaries
+struct SummaryOptions {
+  std::string output;
+  bool json = false;
+};
+void add_summary(CLI::App& app, SummaryOptions& o);
+int run_summary(const SummaryOptions& o);
 
 // `proxseg synth`
 struct SynthOptions {

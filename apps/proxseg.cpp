@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
   add_eval(app, eval);
   SynthOptions synth;
   add_synth(app, synth);
+  SummaryOptions summary;
+  add_summary(app, summary);
   try {
     app.parse(argc, argv);
     if (app.got_subcommand("segment")) return run_segment(segment);
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("eval-seg")) return run_eval(eval);
     if (app.got_subcommand("db")) return run_db(db);
     if (app.got_subcommand("recognize")) return run_recognize(recognize);
+    if (app.got_subcommand("summary")) return run_summary(summary);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help (code 0) or the usage error
     return code == 0 ? 0 : 2;

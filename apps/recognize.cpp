@@ -1,7 +1,9 @@
 // `proxseg recognize`: segment -> select -> recognise every candidate [paper 3.1-3.4], or
-// recognise one already segmented cloud (--object).
+// recognise one already segmented cloud (--object), or every frame of a dataset (--batch,
+// batch.cpp).
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition.hpp>
+#include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/database.hpp>
 #include <proxseg/io/output.hpp>
@@ -27,7 +29,12 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("-o,--output", o.output,
                   "Output prefix: writes PREFIX.json, PREFIX.png (picture with a legend) and, "
                   "for a scene, PREFIX.pcd (field `object`: the id of the object holding each "
-                  "point); required for a scene");
+                  "point); required for a scene (with --batch: a folder)");
+  cmd->add_option("--outputs", o.outputs,
+                  "What to write for a scene, comma-separated: labels (PREFIX.object.png, 16-bit "
+                  "object ids), pcd (binary_compressed), png, json; or all")
+      ->capture_default_str();
+  add_batch_options(cmd, o);
   cmd->add_option("--object", o.object,
                   "Recognise this one already segmented cloud instead of a scene");
   cmd->add_option("--config", o.config,
@@ -139,16 +146,19 @@ std::vector<proxseg::SceneObject> recognise_scene(const proxseg::Frame& frame,
 
 int run_recognize(const RecognizeOptions& o) {
   const bool object = !o.object.empty();
-  if (object && (!o.input.empty() || !o.color.empty() || !o.depth.empty()))
+  const proxseg::OutputSet outputs = outputs_option(o.outputs);
+  check_batch_options(o);
+  if (object && (!o.input.empty() || !o.color.empty() || !o.depth.empty() || !o.batch.empty()))
     throw CLI::ValidationError("--object takes one segmented cloud instead of a scene");
   if (!object && o.output.empty()) throw CLI::ValidationError("a scene needs -o PREFIX");
-  if (!object) check_scene_options(o, {o.output + ".pcd", o.output + ".json", o.output + ".png"});
+  if (!object && o.batch.empty())
+    check_scene_options(o, proxseg::output_files(o.output, outputs, true));
   proxseg::SegmentParams seg = proxseg::preset(o.preset);
   proxseg::RecognitionParams rec;
   if (!o.config.empty()) std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec);
   seg = segment_params(o, seg);
   rec = recognition_params(o, rec);
-  if (!o.output.empty())
+  if (!o.output.empty() && o.batch.empty())
     make_parent(o.output);  // before the work: an unwritable output fails at once
 
   const auto start = Clock::now();
@@ -157,6 +167,17 @@ int run_recognize(const RecognizeOptions& o) {
   const double load_ms = ms_since(start);
   std::cerr << "proxseg: database " << o.db << ": " << db.objects().size() << " objects, "
             << db.views.size() << " views (" << static_cast<int>(load_ms) << " ms)\n";
+  if (!o.batch.empty()) {
+    const proxseg::RecognizeJob job{o.output, outputs, seg, rec, o.db, load_ms};
+    return run_batch(
+        o, o.output, o.json,
+        {{"command", "recognize"},
+         {"outputs", proxseg::to_string(outputs)},
+         {"database", o.db},
+         {"parameters", {{"segmentation", proxseg::to_json(seg)},
+                         {"recognition", proxseg::to_json(rec)}}}},
+        [&](const proxseg::FrameSource& f) { return proxseg::recognize_frame(f, job, db); });
+  }
 
   proxseg::Frame frame;
   std::vector<proxseg::SceneObject> objects;
@@ -174,23 +195,17 @@ int run_recognize(const RecognizeOptions& o) {
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 
-  nlohmann::json report;
-  report["input"] = object ? o.object : (o.input.empty() ? o.color : o.input);
-  report["database"] = {{"dir", o.db},
-                        {"objects", db.objects().size()},
-                        {"views", db.views.size()},
-                        {"descriptor", proxseg::database_info(db)["descriptor"]}};
-  report["proxseg"] = proxseg::build_info();
-  report["parameters"] = {{"recognition", proxseg::to_json(rec)}};
-  if (!object) report["parameters"]["segmentation"] = proxseg::to_json(seg);
-  report["candidates"] = proxseg::recognition_candidates_json(objects, db);
+  nlohmann::json report = proxseg::recognition_report(
+      object ? o.object : (o.input.empty() ? o.color : o.input), o.db, db, rec,
+      object ? nullptr : &seg, objects);
   report["times_ms"] = {{"load_database", load_ms},
                         {"segment", segment_ms},
                         {"recognize", recognize_ms},
                         {"total", ms_since(start)}};
   // PREFIX.pcd (a scene), PREFIX.png and PREFIX.json: all made in memory, then all or none.
   if (!o.output.empty())
-    report = proxseg::write_recognition(o.output, frame, objects, db, std::move(report), !object);
+    report = proxseg::write_recognition(o.output, frame, objects, db, std::move(report), !object,
+                                        outputs);
   if (o.json)
     std::cout << report.dump(2) << "\n";
   else

@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
     std::ifstream sin(work / "batch-out" / "summary.json");
     const nlohmann::json summary = nlohmann::json::parse(sin);
     std::vector<double> rss;
-    for (const auto& s : summary["scenes"]) rss.push_back(s["rss_mib"].get<double>());
+    for (const auto& s : summary["frames"]) rss.push_back(s["rss_mib"].get<double>());
     if (static_cast<int>(rss.size()) != frames)
       throw std::runtime_error("batch summary has " + std::to_string(rss.size()) + " frames");
     const double at10 = rss[std::min(9, frames - 1)], last = rss.back();

@@ -442,39 +442,3 @@ TEST(Cli, RecognizesXyzOnlyClouds) {
   EXPECT_EQ(cv::imread(s.string() + ".png").rows, 480);
 }
 
-TEST(Cli, SegmentBatchWritesEverySceneAndReportsTheBadOnes) {
-  const fs::path in = kTmp / "seg-batch-in", out = kTmp / "seg-batch-out";
-  fs::remove_all(in);
-  fs::remove_all(out);
-  fs::create_directories(in);
-  fs::create_symlink(kData + "/pcl/milk.pcd", in / "milk.pcd");
-  fs::create_symlink(learn0(), in / "learn0.pcd");
-  std::ofstream(in / "broken.ply") << "not a ply\n";
-  const CliRun r = run("segment --batch " + in.string() + " -o " + out.string() + " --json");
-  EXPECT_EQ(r.code, 1) << r.err;  // one scene failed; the others are done
-  const auto summary = nlohmann::json::parse(r.out);
-  EXPECT_EQ(summary, nlohmann::json::parse(slurp(out / "summary.json")));
-  EXPECT_EQ(summary["scenes_total"], 3);
-  EXPECT_EQ(summary["proxseg"]["version"], PROXSEG_VERSION);
-  EXPECT_EQ(summary["scenes_done"], 2);
-  EXPECT_EQ(summary["scenes_failed"], 1);
-  EXPECT_FALSE(summary["interrupted"].get<bool>());
-  ASSERT_EQ(summary["scenes"].size(), 3u);
-  EXPECT_EQ(summary["scenes"][0]["scene"], "broken.ply");  // natural order
-  EXPECT_NE(summary["scenes"][0]["error"].get<std::string>().find("broken.ply"), std::string::npos);
-  EXPECT_NE(r.err.find("broken.ply"), std::string::npos) << r.err;
-  for (const char* stem : {"learn0", "milk"}) {
-    for (const char* ext : {".pcd", ".png", ".json"})
-      EXPECT_TRUE(fs::exists(out / (std::string(stem) + ext))) << stem << ext;
-    EXPECT_FALSE(fs::exists(out / "broken.json"));
-  }
-  EXPECT_GT(summary["scenes"][1]["rss_mib"].get<double>(), 0);
-  EXPECT_EQ(summary["parameters"]["voxels"]["voxel_size"], 0.02);
-  // The same batch segments each scene exactly as `segment` does.
-  ASSERT_EQ(run("segment " + learn0() + " -o " + (kTmp / "seg-batch-single").string()).code, 0);
-  EXPECT_TRUE(slurp(out / "learn0.pcd") == slurp(kTmp / "seg-batch-single.pcd"));
-  // Usage: --batch with an input; two scenes of the same name.
-  EXPECT_EQ(run("segment --batch " + in.string() + " " + learn0() + " -o " + out.string()).code, 2);
-  fs::create_symlink(kData + "/pcl/milk.pcd", in / "learn0.ply");
-  EXPECT_EQ(run("segment --batch " + in.string() + " -o " + out.string()).code, 1);
-}

@@ -341,14 +341,14 @@ TEST(Robustness, InterruptDuringABatchLeavesWholeFilesAndASummary) {
   EXPECT_EQ(WEXITSTATUS(status), 130) << slurp(kTmp / "batch.log");
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
   EXPECT_TRUE(summary["interrupted"].get<bool>());
-  EXPECT_EQ(summary["scenes_total"], 4);
-  const int done = summary["scenes_done"].get<int>();
+  EXPECT_EQ(summary["frames_total"], 4);
+  const int done = summary["frames_done"].get<int>();
   EXPECT_GE(done, 1);
   EXPECT_LT(done, 4);
-  // Exactly the outputs of the scenes the summary lists, each whole; no temporary file left.
-  std::set<std::string> expected = {"summary.json"};
-  for (const auto& s : summary["scenes"]) {
-    const std::string stem = fs::path(s["scene"].get<std::string>()).stem().string();
+  // Exactly the outputs of the frames the summary lists, each whole; no temporary file left.
+  std::set<std::string> expected = {"summary.json", "summary.jsonl"};
+  for (const auto& s : summary["frames"]) {
+    const std::string stem = s["frame"].get<std::string>();
     for (const char* ext : {".pcd", ".png", ".json"}) expected.insert(stem + ext);
     EXPECT_EQ(proxseg::read_pcd((out / (stem + ".pcd")).string(), "instance").size(), 307200u);
     EXPECT_FALSE(cv::imread((out / (stem + ".png")).string()).empty());

@@ -35,5 +35,6 @@ void bind_frame(py::module_& m);
 void bind_segment(py::module_& m);
 void bind_database(py::module_& m);
 void bind_recognition(py::module_& m);
+void bind_batch(py::module_& m);
 
 }  // namespace proxseg::python

@@ -134,4 +134,5 @@ PYBIND11_MODULE(_proxseg, m) {
   bind_segment(m);
   bind_database(m);
   bind_recognition(m);
+  bind_batch(m);
 }

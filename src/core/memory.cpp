@@ -3,6 +3,9 @@
 #include <cstddef>  // defines __GLIBC__ with glibc
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
+#include <sys/resource.h>
+#include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #include <sys/mman.h>
@@ -40,6 +43,19 @@ void keep_freed_memory() {
   std::free(probe);
   mallopt(M_TOP_PAD, static_cast<int>(64 * kMiB));  // later growth in large steps
 #endif
+}
+
+double resident_mib() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  if (!(statm >> pages >> resident)) return 0;
+  return static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+double peak_resident_mib() {
+  rusage u{};
+  if (::getrusage(RUSAGE_SELF, &u) != 0) return 0;
+  return u.ru_maxrss / 1024.0;  // KiB on Linux
 }
 
 }  // namespace proxseg

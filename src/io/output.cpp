@@ -1,6 +1,7 @@
 // Segmentation outputs: labelled PCD, a picture of the labels, and the JSON report.
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/database.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
 
@@ -270,30 +271,82 @@ nlohmann::json build_info() {
   return {{"version", version()}, {"commit", git_commit()}};
 }
 
-nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
-                                  const SegmentParams& params, const SegmentResult& result) {
-  // The picture (three quarters of the work: building and compressing it) is made beside the
-  // report and the PCD. A failure anywhere removes the files already written: never a partial set.
-  std::string png;
-  nlohmann::json report;
-  std::vector<std::string> written;
-  try {
-    detail::run_beside(
-        params.threads != 1, [&] { png = label_image_png(frame, result.selection.instance); },
-        [&] {
-          report = segmentation_report(frame, params, result);
-          write_pcd(prefix + ".pcd", frame,
-                    {{"label", result.point_labels}, {"instance", result.selection.instance}});
-          written.push_back(prefix + ".pcd");
-        });
-    write_file_atomic(prefix + ".png", png);
-    written.push_back(prefix + ".png");
-    write_file_atomic(prefix + ".json", report.dump(2) + "\n");
-  } catch (...) {
-    std::error_code ec;
-    for (const auto& f : written) std::filesystem::remove(f, ec);
-    throw;
+OutputSet parse_outputs(const std::string& list, const std::string& field) {
+  if (list.empty()) throw InputError(field + ": no outputs (expected labels, pcd, png, json or all)");
+  OutputSet o{false, false, false, false};
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string word = list.substr(start, end - start);
+    start = end + 1;
+    if (word == "labels") o.labels = true;
+    else if (word == "pcd") o.pcd = true;
+    else if (word == "png") o.png = true;
+    else if (word == "json") o.json = true;
+    else if (word == "all") o = OutputSet{true, true, true, true};
+    else
+      throw InputError(field + ": unknown output \"" + word +
+                       "\" (expected labels, pcd, png, json or all, comma-separated)");
   }
+  return o;
+}
+
+std::string to_string(const OutputSet& o) {
+  std::string s;
+  for (const auto& [on, name] : {std::pair{o.labels, "labels"}, std::pair{o.pcd, "pcd"},
+                                 std::pair{o.png, "png"}, std::pair{o.json, "json"}})
+    if (on) s += (s.empty() ? "" : ",") + std::string(name);
+  return s;
+}
+
+std::vector<std::string> output_files(const std::string& prefix, const OutputSet& o,
+                                      bool recognition) {
+  std::vector<std::string> files;
+  if (o.labels) {
+    if (recognition) {
+      files.push_back(prefix + ".object.png");
+    } else {
+      files.push_back(prefix + ".label.png");
+      files.push_back(prefix + ".instance.png");
+    }
+  }
+  if (o.pcd) files.push_back(prefix + ".pcd");
+  if (o.png) files.push_back(prefix + ".png");
+  if (o.json) files.push_back(prefix + ".json");
+  return files;
+}
+
+nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
+                                  const SegmentParams& params, const SegmentResult& result,
+                                  const OutputSet& outputs) {
+  // The picture (three quarters of the work: building and compressing it) is made beside the
+  // rest; then every file is written at once, so that a failure never leaves a partial set.
+  std::string png, pcd, label, instance;
+  nlohmann::json report;
+  detail::run_beside(
+      params.threads != 1 && outputs.png,
+      [&] {
+        if (outputs.png) png = label_image_png(frame, result.selection.instance);
+      },
+      [&] {
+        report = segmentation_report(frame, params, result);
+        if (outputs.pcd)
+          pcd = pcd_bytes(frame,
+                          {{"label", result.point_labels}, {"instance", result.selection.instance}});
+        if (outputs.labels) {
+          label = label_png(frame, result.point_labels);
+          instance = label_png(frame, result.selection.instance);
+        }
+      });
+  std::vector<std::pair<std::string, std::string>> files;
+  if (outputs.labels) {
+    files.emplace_back(prefix + ".label.png", std::move(label));
+    files.emplace_back(prefix + ".instance.png", std::move(instance));
+  }
+  if (outputs.pcd) files.emplace_back(prefix + ".pcd", std::move(pcd));
+  if (outputs.png) files.emplace_back(prefix + ".png", std::move(png));
+  if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  write_files_atomic(files);
   return report;
 }
 
@@ -597,32 +650,53 @@ std::string recognition_image_png(const Frame& frame, const std::vector<SceneObj
   return detail::encode_png(recognition_image(frame, objects, db, scene));
 }
 
+nlohmann::json recognition_report(const std::string& input, const std::string& db_dir,
+                                  const Database& db, const RecognitionParams& rec,
+                                  const SegmentParams* seg,
+                                  const std::vector<SceneObject>& objects) {
+  nlohmann::json report;
+  report["input"] = input;
+  report["database"] = {{"dir", db_dir},
+                        {"objects", db.objects().size()},
+                        {"views", db.views.size()},
+                        {"descriptor", database_info(db)["descriptor"]}};
+  report["proxseg"] = build_info();
+  report["parameters"] = {{"recognition", to_json(rec)}};
+  if (seg) report["parameters"]["segmentation"] = to_json(*seg);
+  report["candidates"] = recognition_candidates_json(objects, db);
+  return report;
+}
+
 nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
                                  const std::vector<SceneObject>& objects, const Database& db,
-                                 nlohmann::json report, bool scene) {
+                                 nlohmann::json report, bool scene, const OutputSet& outputs) {
   // The report names the files beside it by their file names: it stays right when the folder
   // is moved.
   const std::string stem = std::filesystem::path(prefix).filename().string();
   std::vector<std::pair<std::string, std::string>> files;
-  if (scene) {
-    files.emplace_back(prefix + ".pcd",
-                       pcd_bytes(frame, {{"object", recognition_labels(frame, objects)}}));
-    report["labels"] = {{"file", stem + ".pcd"},
+  if (scene && (outputs.pcd || outputs.labels)) {
+    const std::vector<std::uint32_t> ids = recognition_labels(frame, objects);
+    if (outputs.labels) files.emplace_back(prefix + ".object.png", label_png(frame, ids));
+    if (outputs.pcd) files.emplace_back(prefix + ".pcd", pcd_bytes(frame, {{"object", ids}}));
+    report["labels"] = {{"file", stem + (outputs.pcd ? ".pcd" : ".object.png")},
                         {"field", "object"},
                         {"none", 0},
                         {"meaning",
                          "per point of the input frame, the id (candidates[].id) of the "
                          "recognised object that holds it; 0 = no object"}};
   }
-  cv::Size scene_size;
-  const cv::Mat picture = recognition_image(frame, objects, db, scene_size);
-  report["picture"] = {{"file", stem + ".png"},
-                       {"width", picture.cols},
-                       {"height", picture.rows},
-                       {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
-                       {"legend", "right of the scene: per candidate its colour, id, name, score"}};
-  files.emplace_back(prefix + ".png", detail::encode_png(picture));
-  files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  if (outputs.png) {
+    cv::Size scene_size;
+    const cv::Mat picture = recognition_image(frame, objects, db, scene_size);
+    report["picture"] = {
+        {"file", stem + ".png"},
+        {"width", picture.cols},
+        {"height", picture.rows},
+        {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
+        {"legend", "right of the scene: per candidate its colour, id, name, score"}};
+    files.emplace_back(prefix + ".png", detail::encode_png(picture));
+  }
+  if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
   write_files_atomic(files);
   return report;
 }

@@ -10,6 +10,26 @@
 
 namespace proxseg {
 
+// Which files a segmentation or recognition writes beside PREFIX (the CLI's --outputs).
+struct OutputSet {
+  // PREFIX.label.png and PREFIX.instance.png (segment), PREFIX.object.png (recognize a scene):
+  // 16-bit grey PNGs of the frame's size (label_png), one value per point, the compact output of
+  // a large batch.
+  bool labels = false;
+  bool pcd = true;   // PREFIX.pcd: the frame and its labels, binary_compressed
+  bool png = true;   // PREFIX.png: the picture
+  bool json = true;  // PREFIX.json: the report
+};
+// "labels,pcd,png,json": any of them, comma-separated, or "all". InputError naming the field and
+// the unknown word, or for an empty list.
+OutputSet parse_outputs(const std::string& list, const std::string& field = "--outputs");
+// The canonical list, in the order labels,pcd,png,json.
+std::string to_string(const OutputSet& outputs);
+// The files a segmentation (recognition = false) or the recognition of a scene writes for these
+// outputs.
+std::vector<std::string> output_files(const std::string& prefix, const OutputSet& outputs,
+                                      bool recognition);
+
 // What made a report: {"version": PROXSEG_VERSION, "commit": git_commit()}; every JSON report
 // of the CLI carries it under "proxseg", beside its parameters.
 nlohmann::json build_info();
@@ -28,10 +48,13 @@ std::string colourless_note(const Frame& frame, const FeatureParams& features);
 // (organized input), or the points rendered from the sensor origin (unorganized input); a frame
 // without colours shows grey by depth instead (nearer is lighter). PNG bytes.
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
-// Writes PREFIX.pcd, PREFIX.png and PREFIX.json; each appears whole or not at all. Returns the
-// report written to PREFIX.json.
+// Writes output_files(prefix, outputs, false) (PREFIX.pcd with fields label and instance,
+// PREFIX.png, PREFIX.json, and with outputs.labels PREFIX.label.png and PREFIX.instance.png): all
+// made in memory and written with write_files_atomic, all or none. Returns the report (also when
+// outputs.json is off).
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
-                                  const SegmentParams& params, const SegmentResult& result);
+                                  const SegmentParams& params, const SegmentResult& result,
+                                  const OutputSet& outputs = {});
 
 // Writes one unorganized PCD (x y z rgb; x y z for a frame without colours) per candidate object
 // (not the background) to DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the
@@ -65,11 +88,19 @@ std::vector<std::uint32_t> recognition_labels(const Frame& frame,
 // name and best score, in report order (more columns when they do not fit the height). PNG bytes.
 std::string recognition_image_png(const Frame& frame, const std::vector<SceneObject>& objects,
                                   const Database& db);
+// The report of `proxseg recognize` before its times and files: the input, the database
+// (dir, objects, views, descriptor), build_info, the parameters (segmentation only for a scene,
+// seg != nullptr) and the candidates (recognition_candidates_json).
+nlohmann::json recognition_report(const std::string& input, const std::string& db_dir,
+                                  const Database& db, const RecognitionParams& rec,
+                                  const SegmentParams* seg,
+                                  const std::vector<SceneObject>& objects);
 // Writes PREFIX.json (the report with "picture", and for a scene "labels", added), PREFIX.png and
-// for a scene PREFIX.pcd (the frame with field `object` = recognition_labels). All three are made
-// in memory and written with write_files_atomic: all or none. Returns the report written.
+// for a scene PREFIX.pcd (the frame with field `object` = recognition_labels) and, with
+// outputs.labels, PREFIX.object.png (the same ids, label_png), each when outputs asks for it. All
+// are made in memory and written with write_files_atomic: all or none. Returns the report.
 nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
                                  const std::vector<SceneObject>& objects, const Database& db,
-                                 nlohmann::json report, bool scene);
+                                 nlohmann::json report, bool scene, const OutputSet& outputs = {});
 
 }  // namespace proxseg

@@ -1,0 +1,183 @@
+// `segment --batch` and `recognize --batch`: the frames of a dataset, sharded and resumable,
+// logged frame by frame (docs/batch.md); and `proxseg summary`, which merges shard summaries.
+#include <proxseg/core/memory.hpp>
+#include <proxseg/io/batch.hpp>
+#include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/output.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <regex>
+#include <string>
+
+#include "cli.hpp"
+
+namespace cli {
+
+namespace fs = std::filesystem;
+using proxseg::InputError;
+
+proxseg::OutputSet outputs_option(const std::string& list) {
+  try {
+    return proxseg::parse_outputs(list);
+  } catch (const InputError& e) {
+    throw CLI::ValidationError(e.what());
+  }
+}
+
+void add_batch_options(CLI::App* cmd, BatchOptions& o) {
+  cmd->add_option("--batch", o.batch,
+                  "Work through a dataset: folders (recursive), list files, globs (quoted) or "
+                  ".pcd/.ply files; frames are clouds and RGB-D pairs. -o is then a folder: "
+                  "OUT/<frame>.* per frame, OUT/summary.jsonl (one line per frame, as done) "
+                  "and OUT/summary.json");
+  cmd->add_option("--shard", o.shard,
+                  "Only shard I of N (e.g. 2/3; by a hash of the frame's name, stable as the "
+                  "dataset grows); its summary is OUT/summary.shard-I-of-N.*; `proxseg summary "
+                  "OUT` merges the shards'");
+  cmd->add_flag("--resume", o.resume,
+                "Skip the frames an earlier run into OUT finished (outputs whole, as its "
+                "summary recorded them); a killed run's other frames are done again");
+  cmd->add_option("--color-pattern", o.naming.color,
+                  "RGB-D pairs in a batch: colour image name, {id} = the frame's name")
+      ->capture_default_str();
+  cmd->add_option("--depth-pattern", o.naming.depth, "RGB-D pairs: depth image name")
+      ->capture_default_str();
+  cmd->add_option("--meta-pattern", o.naming.meta,
+                  "RGB-D pairs: per-frame camera JSON (YCB-Video meta or intrinsics), used when "
+                  "present; else --intrinsics")
+      ->capture_default_str();
+}
+
+namespace {
+
+// "I/N" -> {I, N}; a usage error otherwise.
+std::pair<int, int> parse_shard(const std::string& shard) {
+  if (shard.empty()) return {1, 1};
+  std::smatch m;
+  if (std::regex_match(shard, m, std::regex(R"(([0-9]{1,6})/([0-9]{1,6}))"))) {
+    const int i = std::stoi(m[1]), n = std::stoi(m[2]);
+    if (i >= 1 && i <= n) return {i, n};
+  }
+  throw CLI::ValidationError("--shard " + shard + ": expected I/N with 1 <= I <= N, e.g. 2/3");
+}
+
+// A progress bar with the rate and the time left.
+std::string rate_and_eta(std::size_t done, std::size_t total, double seconds) {
+  if (done == 0 || seconds <= 0) return "";
+  const double rate = done / seconds;
+  const long left = static_cast<long>((total - done) / rate + 0.5);
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f frames/s, ETA %ld:%02ld:%02ld", rate, left / 3600,
+                left / 60 % 60, left % 60);
+  return text;
+}
+
+}  // namespace
+
+void check_batch_options(const SegmentOptions& o) {
+  if (o.batch.empty()) {
+    if (!o.shard.empty() || o.resume)
+      throw CLI::ValidationError("--shard and --resume go with --batch");
+    return;
+  }
+  if (!o.input.empty() || !o.color.empty() || !o.depth.empty() || !o.meta.empty())
+    throw CLI::ValidationError("--batch takes the frames instead of INPUT or --color/--depth/--meta");
+  parse_shard(o.shard);
+}
+
+int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
+              nlohmann::json header,
+              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job) {
+  const auto [shard, shards] = parse_shard(o.shard);
+  proxseg::RgbdNaming naming = o.naming;
+  naming.intrinsics = o.intrinsics;
+  const auto all = proxseg::discover_frames(o.batch, naming);
+  try {
+    proxseg::check_output_folder(o.batch, all, out_dir);
+  } catch (const InputError& e) {
+    throw CLI::ValidationError(e.what());
+  }
+  const auto frames = proxseg::shard_frames(all, shard, shards);
+  header["sources"] = o.batch;
+  header["shard"] = shards > 1 ? nlohmann::json(o.shard) : nlohmann::json();
+  header["frames"] = frames.size();
+  header["proxseg"] = proxseg::build_info();
+  header["runner"] = "cli";
+  const std::set<std::string> finished =
+      o.resume ? proxseg::finished_frames(out_dir) : std::set<std::string>{};
+  std::vector<proxseg::FrameSource> todo;
+  for (const auto& f : frames)
+    if (!finished.count(f.id)) todo.push_back(f);
+  const std::string name = proxseg::summary_name(shard, shards);
+  proxseg::SummaryLog log(out_dir, name, header, o.resume);  // locked: this shard is ours
+  if (o.resume) proxseg::remove_stale_temporaries(out_dir, todo);
+  std::cerr << "proxseg: " << frames.size() << " frames"
+            << (shards > 1 ? " in shard " + o.shard + " of " + std::to_string(all.size()) : "")
+            << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
+            << "\n";
+
+  catch_interrupts();
+  Progress progress(todo.size());
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t failed = 0, done = 0;
+  for (const auto& f : todo) {
+    if (interrupted()) break;
+    const nlohmann::json row = job(f);
+    log.append(row);
+    ++done;
+    if (row.contains("error")) {
+      ++failed;
+      std::cerr << "proxseg: error: " << row["error"].get<std::string>() << "\n";
+    }
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.step(f.id + (row.contains("error") ? " (failed)" : "") + "  " +
+                  rate_and_eta(done, todo.size(), s));
+  }
+  log.close(interrupted(), proxseg::peak_resident_mib());
+
+  const nlohmann::json summary = proxseg::summarize({log.path()});
+  const std::string summary_json = (fs::path(out_dir) / (name + ".json")).string();
+  proxseg::write_file_atomic(summary_json, summary.dump(2) + "\n");
+  if (json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << summary_json << ": " << summary["frames_done"].get<std::size_t>() << " of "
+              << frames.size() << " frames done"
+              << (failed ? ", " + std::to_string(failed) + " failed" : "")
+              << (interrupted() ? " (interrupted)" : "") << "\n";
+  if (interrupted()) return kInterruptedExit;
+  return summary["frames_failed"].get<std::size_t>() > 0 ? 1 : 0;
+}
+
+void add_summary(CLI::App& app, SummaryOptions& o) {
+  auto* cmd = app.add_subcommand(
+      "summary", "Merge the summaries of a batch's shards (OUT/summary*.jsonl) into OUT/summary.json");
+  cmd->add_option("output", o.output, "The batch's output folder")->required();
+  cmd->add_flag("--json", o.json, "Print the merged summary on stdout");
+}
+
+int run_summary(const SummaryOptions& o) {
+  std::error_code ec;
+  if (!fs::is_directory(o.output, ec))
+    throw proxseg::FileError(o.output + ": not a folder (expected a batch's output folder)");
+  const nlohmann::json summary = proxseg::summarize(proxseg::summary_logs(o.output));
+  const std::string path = (fs::path(o.output) / "summary.json").string();
+  proxseg::write_file_atomic(path, summary.dump(2) + "\n");
+  if (o.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    std::cout << path << ": " << summary["shards"].size() << " logs, "
+              << summary["frames_done"].get<std::size_t>() << " of "
+              << summary["frames_total"].get<std::size_t>() << " frames done, "
+              << summary["frames_failed"].get<std::size_t>() << " failed, "
+              << summary["frames_missing"].get<std::size_t>() << " missing\n";
+  return summary["frames_failed"].get<std::size_t>() + summary["frames_missing"].get<std::size_t>() > 0
+             ? 1
+             : 0;
+}
+
+}  // namespace cli

@@ -1,0 +1,104 @@
+// Batch work over a dataset (docs/batch.md): one frame's job (segment, or segment and
+// recognise), and the JSON-lines summary that makes a batch resumable, shardable and spreadable
+// over many processes. The CLI's `--batch` and the Dask runner (python/proxseg/dask.py) are both
+// built from these, so that they write the same files.
+#pragma once
+#include <proxseg/core/database.hpp>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/io/frame_source.hpp>
+#include <proxseg/io/output.hpp>
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace proxseg {
+
+// What a segmentation batch does with each frame.
+struct SegmentJob {
+  std::string out_dir;   // outputs go to OUT_DIR/<frame id>.* (folders made as needed)
+  OutputSet outputs;     // which files (write_segmentation)
+  SegmentParams params;  // the segmentation's parameters
+};
+
+// What a recognition batch does with each frame: segment it, recognise its candidates against
+// the database, write the outputs.
+struct RecognizeJob {
+  std::string out_dir;
+  OutputSet outputs;
+  SegmentParams segmentation;
+  RecognitionParams recognition;
+  std::string db_dir;     // where the database was loaded from (named in the reports)
+  double load_ms = 0;     // the time it took (the reports' times_ms.load_database)
+};
+
+// One frame of a batch, start to end: reads it, segments it, writes its outputs (all or none).
+// Returns its summary row: {"frame": id, "inputs": [files], "outputs": {file relative to
+// out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. An InputError (a frame that cannot be
+// read or written) does not propagate: the row then has "error" (the message, which names the
+// file) instead of outputs, and nothing of the frame is written.
+nlohmann::json segment_frame(const FrameSource& frame, const SegmentJob& job);
+// The same for recognition: the row has "objects" (names, in report order) instead of "k" and
+// "candidates"; the report equals `proxseg recognize`'s for the frame (its times aside).
+nlohmann::json recognize_frame(const FrameSource& frame, const RecognizeJob& job,
+                               const Database& db);
+
+// The outputs must stay out of the inputs: InputError when out_dir is inside a source folder (a
+// later batch would take its outputs for frames) or holds an input file.
+void check_output_folder(const std::vector<std::string>& sources,
+                         const std::vector<FrameSource>& frames, const std::string& out_dir);
+
+// The name of a batch's summary in its output folder: "summary" for the whole batch,
+// "summary.shard-I-of-N" for a shard (so that shards never write one file).
+std::string summary_name(int shard_index = 1, int shard_count = 1);
+
+// The streamed summary of a run, OUT/<name>.jsonl: a line {"header": {...}} when a run starts,
+// then one line per frame (segment_frame's row) as soon as it is done, then {"end": {...}} when
+// the run ends. Each line is written by one write() to a file opened for appending, so that a
+// killed run loses no finished frame. The file is locked (flock) while open: a second process
+// given the same output folder and shard gets an InputError instead of interleaving lines.
+class SummaryLog {
+ public:
+  // Opens OUT/<name>.jsonl and writes header. resume = false: the file starts anew. resume =
+  // true: its whole lines are kept (a half-written last line, from a killed run, is cut off),
+  // after checking that its last header has the same "command", "outputs", "parameters" and
+  // "database" as header (InputError naming the first difference otherwise: the outputs of two
+  // settings must not be mixed in one folder).
+  SummaryLog(const std::string& out_dir, const std::string& name, const nlohmann::json& header,
+             bool resume);
+  ~SummaryLog();
+  SummaryLog(const SummaryLog&) = delete;
+  SummaryLog& operator=(const SummaryLog&) = delete;
+  void append(const nlohmann::json& row);
+  // Writes {"end": {"interrupted", "peak_rss_mib"}} and closes the file.
+  void close(bool interrupted, double peak_rss_mib);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
+// The frames of earlier runs into out_dir that need no more work: those whose last row, in any
+// OUT/summary*.jsonl, has no error and whose output files all exist with the sizes it recorded.
+std::set<std::string> finished_frames(const std::string& out_dir);
+
+// Removes what a killed run left of the given frames' outputs in out_dir: the hidden temporary
+// files of write_files_atomic (".NAME.tmp.PID.N" beside each output). Only these frames': another
+// process may be writing other frames there. Returns how many were removed.
+std::size_t remove_stale_temporaries(const std::string& out_dir,
+                                     const std::vector<FrameSource>& frames);
+
+// The summary of the runs logged in the given .jsonl files (a shard's own, or every one of a
+// folder: summary_logs): {"command", "sources", "shards", "frames_total", "frames_done",
+// "frames_failed", "frames_missing" (total - done - failed), "interrupted" (a log whose last run
+// did not end), "peak_rss_mib", "frames" (the last row of each frame, in natural order of ids),
+// "proxseg", "parameters", "outputs", "database"}. InputError when the logs' headers disagree
+// on the command, outputs, parameters or database, or a log has no header.
+nlohmann::json summarize(const std::vector<std::string>& logs);
+// Every OUT/summary*.jsonl, sorted.
+std::vector<std::string> summary_logs(const std::string& out_dir);
+
+}  // namespace proxseg

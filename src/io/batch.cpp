@@ -1,0 +1,350 @@
+// Batch work over a dataset: one frame's job and the JSON-lines summary (batch.hpp).
+#include <proxseg/core/memory.hpp>
+#include <proxseg/io/batch.hpp>
+#include <proxseg/io/cloud_io.hpp>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace proxseg {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// OUT_DIR/<id>, its folder made.
+std::string output_prefix(const std::string& out_dir, const std::string& id) {
+  const fs::path prefix = fs::path(out_dir) / id;
+  std::error_code ec;
+  fs::create_directories(prefix.parent_path(), ec);
+  if (ec)
+    throw FileError(prefix.parent_path().string() + ": cannot create the output folder (" +
+                    ec.message() + ")");
+  return prefix.string();
+}
+
+// {file relative to out_dir: bytes} of the files just written.
+nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files) {
+  nlohmann::json sizes = nlohmann::json::object();
+  for (const auto& f : files)
+    sizes[fs::path(f).lexically_relative(out_dir).generic_string()] = fs::file_size(f);
+  return sizes;
+}
+
+// A frame's row around its work: inputs, then the work's fields or its error, time and memory.
+template <class Work>
+nlohmann::json frame_row(const FrameSource& frame, Work&& work) {
+  const auto start = Clock::now();
+  nlohmann::json row = {{"frame", frame.id}, {"inputs", frame.files()}};
+  try {
+    work(row);
+  } catch (const InputError& e) {
+    row["error"] = e.what();
+  }
+  row["ms"] = ms_since(start);
+  // Memory after each frame: a batch must not grow (docs/robustness.md).
+  row["rss_mib"] = resident_mib();
+  return row;
+}
+
+const char* kSameKeys[] = {"command", "outputs", "parameters", "database"};
+
+// The first of kSameKeys on which two headers differ, with both values; "" when none.
+std::string header_difference(const nlohmann::json& a, const nlohmann::json& b) {
+  for (const char* key : kSameKeys) {
+    const nlohmann::json va = a.value(key, nlohmann::json()), vb = b.value(key, nlohmann::json());
+    if (va == vb) continue;
+    if (va.is_object() && vb.is_object()) {
+      const nlohmann::json patch = nlohmann::json::diff(va, vb);
+      const auto& op = patch.at(0);
+      return std::string(key) + op.value("path", "") + " (" +
+             va.flatten().value(op.value("path", ""), nlohmann::json("absent")).dump() + " and " +
+             op.value("value", nlohmann::json("absent")).dump() + ")";
+    }
+    return std::string(key) + " (" + va.dump() + " and " + vb.dump() + ")";
+  }
+  return "";
+}
+
+// The whole lines of a summary log, parsed; a line that does not parse (the half-written last
+// line of a killed run) ends the list. whole_bytes: where the whole lines end.
+std::vector<nlohmann::json> read_log(const std::string& path, std::size_t* whole_bytes = nullptr) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<nlohmann::json> lines;
+  std::size_t end = 0;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (in.eof()) break;  // no newline after it: not whole
+    nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) break;
+    lines.push_back(std::move(j));
+    end += line.size() + 1;
+  }
+  if (whole_bytes) *whole_bytes = end;
+  return lines;
+}
+
+void write_all(int fd, const std::string& bytes, const std::string& path) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw FileError(path + ": cannot write (" + std::strerror(errno) + ")");
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+nlohmann::json segment_frame(const FrameSource& source, const SegmentJob& job) {
+  return frame_row(source, [&](nlohmann::json& row) {
+    const std::string prefix = output_prefix(job.out_dir, source.id);
+    const Frame frame = read_frame(source);
+    const SegmentResult result = segment(frame, job.params);
+    const nlohmann::json report =
+        write_segmentation(prefix, frame, job.params, result, job.outputs);
+    row["outputs"] = file_sizes(job.out_dir, output_files(prefix, job.outputs, false));
+    row["k"] = result.k();
+    row["candidates"] = report["selection"]["candidates"];
+  });
+}
+
+nlohmann::json recognize_frame(const FrameSource& source, const RecognizeJob& job,
+                               const Database& db) {
+  return frame_row(source, [&](nlohmann::json& row) {
+    const auto start = Clock::now();
+    const std::string prefix = output_prefix(job.out_dir, source.id);
+    const Frame frame = read_frame(source);
+    auto t = Clock::now();
+    const SegmentResult result = segment(frame, job.segmentation);
+    const double segment_ms = ms_since(t);
+    t = Clock::now();
+    const auto objects = recognize_scene(frame, result.selection, db, job.recognition);
+    const double recognize_ms = ms_since(t);
+    nlohmann::json report =
+        recognition_report(source.cloud.empty() ? source.color : source.cloud, job.db_dir, db,
+                           job.recognition, &job.segmentation, objects);
+    report["times_ms"] = {{"load_database", job.load_ms},
+                          {"segment", segment_ms},
+                          {"recognize", recognize_ms},
+                          {"total", job.load_ms + ms_since(start)}};
+    write_recognition(prefix, frame, objects, db, std::move(report), true, job.outputs);
+    row["outputs"] = file_sizes(job.out_dir, output_files(prefix, job.outputs, true));
+    nlohmann::json names = nlohmann::json::array();
+    for (const auto& o : objects) names.push_back(o.recognition.name);
+    row["objects"] = names;
+  });
+}
+
+namespace {
+
+// Whether path lies in folder (or is it), by their canonical forms.
+bool inside(const fs::path& path, const fs::path& folder) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(path, ec), f = fs::weakly_canonical(folder, ec);
+  auto a = f.begin(), b = p.begin();
+  for (; a != f.end() && b != p.end(); ++a, ++b)
+    if (*a != *b) return false;
+  return a == f.end();
+}
+
+}  // namespace
+
+void check_output_folder(const std::vector<std::string>& sources,
+                         const std::vector<FrameSource>& frames, const std::string& out_dir) {
+  for (const std::string& s : sources) {
+    std::error_code ec;
+    if (fs::is_directory(s, ec) && inside(out_dir, s))
+      throw InputError("output folder " + out_dir + " is inside the input folder " + s +
+                       " (a later batch would take its outputs for frames)");
+  }
+  for (const auto& f : frames)
+    for (const std::string& file : f.files())
+      if (inside(file, out_dir))
+        throw InputError("output folder " + out_dir + " holds the input " + file);
+}
+
+std::string summary_name(int shard_index, int shard_count) {
+  if (shard_count <= 1) return "summary";
+  return "summary.shard-" + std::to_string(shard_index) + "-of-" + std::to_string(shard_count);
+}
+
+SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
+                       const nlohmann::json& header, bool resume)
+    : path_((fs::path(out_dir) / (name + ".jsonl")).string()) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw FileError(out_dir + ": cannot create the output folder (" + ec.message() + ")");
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw FileError(path_ + ": cannot open the summary (" + std::strerror(errno) + ")");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    throw InputError(path_ +
+                     ": another batch is writing this summary (expected one process per output "
+                     "folder and shard)");
+  }
+  try {
+    std::size_t whole = 0;
+    const std::vector<nlohmann::json> lines = resume ? read_log(path_, &whole) : decltype(lines){};
+    for (auto it = lines.rbegin(); it != lines.rend(); ++it)
+      if (it->contains("header")) {
+        const std::string diff = header_difference((*it)["header"], header);
+        if (!diff.empty())
+          throw InputError(path_ + ": the earlier run differs in " + diff +
+                           " (expected the same settings to resume; use another output folder)");
+        break;
+      }
+    if (::ftruncate(fd_, static_cast<off_t>(whole)) != 0)
+      throw FileError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    write_all(fd_, nlohmann::json{{"header", header}}.dump() + "\n", path_);
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+}
+
+SummaryLog::~SummaryLog() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void SummaryLog::append(const nlohmann::json& row) { write_all(fd_, row.dump() + "\n", path_); }
+
+void SummaryLog::close(bool interrupted, double peak_rss_mib) {
+  write_all(fd_,
+            nlohmann::json{{"end", {{"interrupted", interrupted}, {"peak_rss_mib", peak_rss_mib}}}}
+                    .dump() +
+                "\n",
+            path_);
+  ::close(fd_);
+  fd_ = -1;
+}
+
+std::vector<std::string> summary_logs(const std::string& out_dir) {
+  std::vector<std::string> logs;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("summary", 0) == 0 && e.path().extension() == ".jsonl")
+      logs.push_back(e.path().string());
+  }
+  std::sort(logs.begin(), logs.end());
+  return logs;
+}
+
+std::set<std::string> finished_frames(const std::string& out_dir) {
+  std::map<std::string, nlohmann::json> last;
+  for (const std::string& log : summary_logs(out_dir))
+    for (nlohmann::json& line : read_log(log))
+      if (line.contains("frame")) last[line["frame"].get<std::string>()] = std::move(line);
+  std::set<std::string> done;
+  for (const auto& [id, row] : last) {
+    if (row.contains("error") || !row.contains("outputs")) continue;
+    bool whole = true;
+    for (const auto& [file, bytes] : row["outputs"].items()) {
+      std::error_code ec;
+      whole = whole && fs::file_size(fs::path(out_dir) / file, ec) == bytes.get<std::uintmax_t>() &&
+              !ec;
+    }
+    if (whole) done.insert(id);
+  }
+  return done;
+}
+
+std::size_t remove_stale_temporaries(const std::string& out_dir,
+                                     const std::vector<FrameSource>& frames) {
+  // The temporaries of OUT/<id>.ext are OUT/<dir of id>/.<name of id>.ext.tmp.*
+  std::set<std::pair<std::string, std::string>> mine;  // (folder, ".<name>.")
+  std::set<std::string> folders;
+  for (const FrameSource& f : frames) {
+    const fs::path prefix = fs::path(out_dir) / f.id;
+    mine.emplace(prefix.parent_path().string(), "." + prefix.filename().string() + ".");
+    folders.insert(prefix.parent_path().string());
+  }
+  std::size_t removed = 0;
+  for (const std::string& folder : folders) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(folder, ec)) {
+      const std::string name = e.path().filename().string();
+      const auto tmp = name.find(".tmp.");
+      const auto dot = name.find('.', 1);
+      if (name[0] != '.' || tmp == std::string::npos || dot == std::string::npos) continue;
+      // ".<name>.<ext...>.tmp.PID.N": the frame's name is up to an extension dot; try each.
+      for (auto d = dot; d != std::string::npos && d < tmp; d = name.find('.', d + 1))
+        if (mine.count({folder, name.substr(0, d + 1)})) {
+          std::error_code ignore;
+          removed += fs::remove(e.path(), ignore);
+          break;
+        }
+    }
+  }
+  return removed;
+}
+
+nlohmann::json summarize(const std::vector<std::string>& logs) {
+  nlohmann::json first;  // the first header: the settings every log must share
+  std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
+      natural_less);
+  std::size_t total = 0;
+  bool interrupted = false;
+  double peak = 0;
+  nlohmann::json shards = nlohmann::json::array();
+  for (const std::string& log : logs) {
+    nlohmann::json header;
+    bool ended = false;
+    for (nlohmann::json& line : read_log(log)) {
+      if (line.contains("header")) {
+        header = line["header"];
+        ended = false;
+      } else if (line.contains("end")) {
+        ended = true;
+        interrupted = interrupted || line["end"].value("interrupted", false);
+        peak = std::max(peak, line["end"].value("peak_rss_mib", 0.0));
+      } else if (line.contains("frame")) {
+        rows[line["frame"].get<std::string>()] = std::move(line);
+      }
+    }
+    if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
+    if (first.is_null()) first = header;
+    if (const std::string diff = header_difference(first, header); !diff.empty())
+      throw InputError(log + ": its run differs from " + logs.front() + "'s in " + diff +
+                       " (expected shards of one batch)");
+    interrupted = interrupted || !ended;  // killed, or still running
+    total += header.value("frames", std::size_t{0});
+    shards.push_back(header.value("shard", nlohmann::json()));
+  }
+  if (first.is_null()) throw InputError("no batch summaries (summary*.jsonl) to merge");
+  std::size_t done = 0, failed = 0;
+  nlohmann::json frames = nlohmann::json::array();
+  for (auto& [id, row] : rows) {
+    (row.contains("error") ? failed : done) += 1;
+    frames.push_back(std::move(row));
+  }
+  return {{"command", first["command"]},
+          {"sources", first["sources"]},
+          {"shards", shards},
+          {"frames_total", total},
+          {"frames_done", done},
+          {"frames_failed", failed},
+          {"frames_missing", total > done + failed ? total - done - failed : 0},
+          {"interrupted", interrupted},
+          {"peak_rss_mib", peak},
+          {"frames", frames},
+          {"proxseg", first["proxseg"]},
+          {"outputs", first["outputs"]},
+          {"database", first.value("database", nlohmann::json())},
+          {"parameters", first["parameters"]}};
+}
+
+}  // namespace proxseg
