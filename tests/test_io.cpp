@@ -417,7 +417,10 @@ TEST(IoWrite, PcdRoundTripOrganizedWithLabels) {
   f.xyz[4] = Eigen::Vector3f(kNan, kNan, kNan);
   const std::vector<std::uint32_t> labels = {0, 1, 20, 21, 0, 4000000000u};
   const std::string path = tmp_path("roundtrip.pcd");
-  proxseg::write_pcd(path, f, {{"label", labels}, {"instance", {1, 2, 3, 4, 5, 6}}});
+  // DATA binary here (byte layout checked below); binary_compressed, the default, in
+  // test_compressed_io.
+  proxseg::write_pcd(path, f, {{"label", labels}, {"instance", {1, 2, 3, 4, 5, 6}}},
+                     proxseg::PcdData::kBinary);
 
   std::ifstream in(path, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -451,7 +454,7 @@ TEST(IoWrite, PcdRoundTripWithoutColour) {
   for (int i = 0; i < 4; ++i) f.xyz.emplace_back(0.5f * i, -0.25f * i, 1.0f + i);
   const std::vector<std::uint32_t> labels = {3, 0, 1, 2};
   const std::string path = tmp_path("roundtrip_xyz.pcd");
-  proxseg::write_pcd(path, f, {{"label", labels}});
+  proxseg::write_pcd(path, f, {{"label", labels}}, proxseg::PcdData::kBinary);
   std::ifstream in(path, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // x y z and the extra field only: no colour field, no made-up colour.

@@ -849,6 +849,31 @@ std::vector<std::uint8_t> read_label_image(const std::string& path, int width, i
   return labels;
 }
 
+LabelImage read_label_png(const std::string& path) {
+  const cv::Mat m = read_image(path);
+  if (m.type() != CV_8UC1 && m.type() != CV_16UC1)
+    fail(path, "label image is " + mat_kind(m) + " " + size_str(m) +
+                   " (expected an 8- or 16-bit one-channel PNG)");
+  // read_image takes JPEGs too: their lossy grey values are no labels.
+  std::ifstream in(path, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, sizeof signature);
+  if (!in || std::memcmp(signature, "\x89PNG\r\n\x1a\n", 8) != 0)
+    fail(path, "label image is not a PNG (expected an 8- or 16-bit one-channel PNG)");
+  LabelImage out;
+  out.width = m.cols;
+  out.height = m.rows;
+  out.values.resize(static_cast<std::size_t>(m.cols) * m.rows);
+  std::uint32_t* to = out.values.data();
+  for (int r = 0; r < m.rows; ++r, to += m.cols) {
+    if (m.depth() == CV_8U)
+      std::copy_n(m.ptr<std::uint8_t>(r), m.cols, to);
+    else
+      std::copy_n(m.ptr<std::uint16_t>(r), m.cols, to);
+  }
+  return out;
+}
+
 Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k) {
   check(k);
   const cv::Mat color = read_image(color_path);
@@ -882,7 +907,48 @@ Frame read_rgbd(const std::string& color_path, const std::string& depth_path, co
   return frame;
 }
 
-std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields) {
+namespace {
+
+// The data of a binary_compressed PCD: compressed size, uncompressed size (uint32 each), then
+// the LZF of the fields one after another (x of every point, then y, ..., then each extra field),
+// the layout PCL defined: values of one field side by side compress far better than whole points.
+std::string compressed_data(const Frame& frame, const std::vector<PointField>& fields) {
+  const std::size_t n = frame.xyz.size();
+  const bool coloured = frame.coloured();
+  const std::size_t field_count = 3 + (coloured ? 1 : 0) + fields.size();
+  const std::size_t raw_size = 4 * n * field_count;
+  if (raw_size > std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("write_pcd: " + std::to_string(raw_size) +
+                                " bytes of point data do not fit binary_compressed (at most "
+                                "4 GiB; write DATA binary)");
+  std::vector<unsigned char> raw(raw_size);
+  unsigned char* out = raw.data();
+  for (int k = 0; k < 3; ++k)
+    for (std::size_t i = 0; i < n; ++i, out += 4) std::memcpy(out, &frame.xyz[i][k], 4);
+  if (coloured)
+    for (std::size_t i = 0; i < n; ++i, out += 4) {
+      const auto& c = frame.rgb[i];
+      const std::uint32_t packed = (std::uint32_t{c[0]} << 16) | (std::uint32_t{c[1]} << 8) | c[2];
+      std::memcpy(out, &packed, 4);
+    }
+  for (const auto& f : fields) {
+    if (n > 0) std::memcpy(out, f.values.data(), 4 * n);
+    out += 4 * n;
+  }
+  const std::string lzf = detail::lzf_compress(raw.data(), raw.size());
+  if (lzf.size() > std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument(
+        "write_pcd: compressed point data does not fit binary_compressed "
+        "(at most 4 GiB; write DATA binary)");
+  const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(lzf.size()),
+                                  static_cast<std::uint32_t>(raw.size())};
+  std::string bytes(reinterpret_cast<const char*>(sizes), sizeof sizes);
+  return bytes + lzf;
+}
+
+}  // namespace
+
+std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields, PcdData data) {
   const std::size_t n = frame.xyz.size();
   const bool coloured = frame.coloured();  // else x y z only: no made-up colour in the file
   if (coloured && frame.rgb.size() != n)
@@ -923,7 +989,10 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
   header += "\nCOUNT";
   for (std::size_t i = 0; i < names.size(); ++i) header += " 1";
   header += "\nWIDTH " + std::to_string(frame.width) + "\nHEIGHT " + std::to_string(frame.height) +
-            "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA binary\n";
+            "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA ";
+  if (data == PcdData::kBinaryCompressed)
+    return header + "binary_compressed\n" + compressed_data(frame, fields);
+  header += "binary\n";
   const std::size_t point_size = 4 * names.size();
   std::string bytes = header;
   bytes.resize(header.size() + n * point_size);
@@ -941,8 +1010,9 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields)
   return bytes;
 }
 
-void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields) {
-  write_file_atomic(path, pcd_bytes(frame, fields));
+void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields,
+               PcdData data) {
+  write_file_atomic(path, pcd_bytes(frame, fields, data));
 }
 
 namespace {

@@ -84,6 +84,9 @@ bool decode_png(PngReader& r, std::FILE* f, cv::Mat& out, std::uint64_t max_pixe
     return false;
   }
   if (setjmp(png_jmpbuf(r.png))) return false;
+  // libpng refuses images wider or higher than 1,000,000 pixels by default; a label PNG of an
+  // unorganized cloud is one row of a pixel per point. max_pixels is the guard instead.
+  png_set_user_limits(r.png, PNG_UINT_31_MAX, PNG_UINT_31_MAX);
   png_init_io(r.png, f);
   png_read_info(r.png, r.info);
   png_uint_32 w = 0, h = 0;
@@ -271,8 +274,9 @@ void png_append(png_structp png, png_bytep data, png_size_t size) {
 }
 void png_no_flush(png_structp) {}
 
-// The calls and settings of OpenCV's PNG encoder with its default parameters.
-bool encode(PngWriter& w, const cv::Mat& bgr) {
+// The calls and settings of OpenCV's PNG encoder with its default parameters, for 8-bit BGR
+// (written as RGB) or 16-bit grey (written big-endian).
+bool encode(PngWriter& w, const cv::Mat& image) {
   w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, w.message, png_on_error, png_on_warning);
   if (!w.png) {
     copy_message(w.message, "out of memory");
@@ -285,15 +289,23 @@ bool encode(PngWriter& w, const cv::Mat& bgr) {
   }
   if (setjmp(png_jmpbuf(w.png))) return false;
   png_set_write_fn(w.png, &w, png_append, png_no_flush);
+  png_set_user_limits(w.png, PNG_UINT_31_MAX, PNG_UINT_31_MAX);  // as in decode_png
   png_set_filter(w.png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
   png_set_compression_level(w.png, Z_BEST_SPEED);
   png_set_compression_strategy(w.png, Z_RLE);
-  png_set_IHDR(w.png, w.info, static_cast<png_uint_32>(bgr.cols),
-               static_cast<png_uint_32>(bgr.rows), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+  const bool grey16 = image.type() == CV_16UC1;
+  png_set_IHDR(w.png, w.info, static_cast<png_uint_32>(image.cols),
+               static_cast<png_uint_32>(image.rows), grey16 ? 16 : 8,
+               grey16 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(w.png, w.info);
-  png_set_bgr(w.png);
-  for (int y = 0; y < bgr.rows; ++y) png_write_row(w.png, bgr.ptr<png_byte>(y));
+  if (grey16) {
+    // libpng swaps each row to the file's big-endian order on a little-endian machine.
+    if (little_endian()) png_set_swap(w.png);
+  } else {
+    png_set_bgr(w.png);
+  }
+  for (int y = 0; y < image.rows; ++y) png_write_row(w.png, image.ptr<png_byte>(y));
   png_write_end(w.png, w.info);
   return true;
 }
@@ -335,6 +347,15 @@ std::string encode_png(const cv::Mat& bgr) {
     throw std::invalid_argument("encode_png: expected a non-empty 8-bit 3-channel image");
   PngWriter w;
   if (!encode(w, bgr))
+    throw std::runtime_error(std::string("PNG encoding failed (") + w.message + ")");
+  return std::move(w.bytes);
+}
+
+std::string encode_png16(const cv::Mat& grey16) {
+  if (grey16.type() != CV_16UC1 || grey16.empty())
+    throw std::invalid_argument("encode_png16: expected a non-empty 16-bit 1-channel image");
+  PngWriter w;
+  if (!encode(w, grey16))
     throw std::runtime_error(std::string("PNG encoding failed (") + w.message + ")");
   return std::move(w.bytes);
 }

@@ -26,4 +26,9 @@ cv::Mat read_image_file(const std::string& path, std::uint64_t max_pixels);
 // Throws std::runtime_error if libpng fails (out of memory).
 std::string encode_png(const cv::Mat& bgr);
 
+// PNG bytes of a 16-bit one-channel image (CV_16UC1): 16-bit grey, samples big-endian as PNG
+// stores them, read back exactly by read_image_file. The same zlib settings as encode_png.
+// Throws std::runtime_error if libpng fails (out of memory).
+std::string encode_png16(const cv::Mat& grey16);
+
 }  // namespace proxseg::detail

@@ -1,6 +1,8 @@
-// LZF decompression (the format of PCD "binary_compressed" data). Private to the library.
+// LZF compression and decompression (the format of PCD "binary_compressed" data). Private to the
+// library.
 #pragma once
 #include <cstddef>
+#include <string>
 
 namespace proxseg::detail {
 
@@ -9,5 +11,12 @@ namespace proxseg::detail {
 // out_size bytes. Never reads or writes outside the given ranges.
 void lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char* out,
                     std::size_t out_size);
+
+// The LZF encoding of in[0, size): literal runs of at most 32 bytes and back-references of 3 to
+// 264 bytes at most 8192 bytes back, found greedily through a hash table of the last position of
+// every 3-byte prefix. Deterministic (the same input gives the same bytes) and always valid LZF,
+// also when it is not smaller than the input (incompressible data: size + size / 32 + 1 bytes at
+// most). An empty input gives an empty output.
+std::string lzf_compress(const unsigned char* in, std::size_t size);
 
 }  // namespace proxseg::detail

@@ -160,6 +160,26 @@ Projection fit_projection(const Frame& frame) {
 
 }  // namespace
 
+std::string label_png(const Frame& frame, const std::vector<std::uint32_t>& labels) {
+  const std::size_t n = frame.size();
+  if (labels.size() != n)
+    throw std::invalid_argument("label_png: " + std::to_string(labels.size()) + " labels for " +
+                                std::to_string(n) + " points");
+  if (n == 0 || frame.width < 1 || frame.height < 1 ||
+      static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height) != n)
+    throw std::invalid_argument("label_png: frame is " + std::to_string(frame.width) + "x" +
+                                std::to_string(frame.height) + " with " + std::to_string(n) +
+                                " points (expected a non-empty frame of width*height points)");
+  const std::uint32_t largest = *std::max_element(labels.begin(), labels.end());
+  if (largest > std::numeric_limits<std::uint16_t>::max())
+    throw InputError("label " + std::to_string(largest) +
+                     " does not fit a 16-bit PNG (expected labels 0..65535)");
+  cv::Mat image(frame.height, frame.width, CV_16UC1);
+  auto* px = image.ptr<std::uint16_t>(0);  // a new Mat is continuous
+  for (std::size_t i = 0; i < n; ++i) px[i] = static_cast<std::uint16_t>(labels[i]);
+  return detail::encode_png16(image);
+}
+
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& labels) {
   cv::Mat image;
   LabelColours colours;

@@ -48,6 +48,12 @@ std::string colourless_note(const Frame& frame, const FeatureParams& features);
 // (organized input), or the points rendered from the sensor origin (unorganized input); a frame
 // without colours shows grey by depth instead (nearer is lighter). PNG bytes.
 std::string label_image_png(const Frame& frame, const std::vector<std::uint32_t>& point_labels);
+// The labels as a 16-bit grey PNG of frame.width x frame.height pixels (an unorganized frame:
+// one row of frame.size() pixels), one value per point in point order: a compact, lossless
+// per-point label output that image tools open; read_label_png (cloud_io.hpp) reads it back.
+// InputError naming the largest label if one exceeds 65535 (a 16-bit sample cannot hold it);
+// std::invalid_argument if labels is not one per point or the frame is empty.
+std::string label_png(const Frame& frame, const std::vector<std::uint32_t>& labels);
 // Writes output_files(prefix, outputs, false) (PREFIX.pcd with fields label and instance,
 // PREFIX.png, PREFIX.json, and with outputs.labels PREFIX.label.png and PREFIX.instance.png): all
 // made in memory and written with write_files_atomic, all or none. Returns the report (also when
