@@ -84,12 +84,12 @@ void check_batch_options(const SegmentOptions& o) {
     return;
   }
   if (!o.input.empty() || !o.color.empty() || !o.depth.empty() || !o.meta.empty())
-    throw CLI::ValidationError("--batch takes the frames instead of INPUT or --color/--depth/--meta");
+    throw CLI::ValidationError(
+        "--batch takes the frames instead of INPUT or --color/--depth/--meta");
   parse_shard(o.shard);
 }
 
-int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
-              nlohmann::json header,
+int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
               const std::function<nlohmann::json(const proxseg::FrameSource&)>& job) {
   const auto [shard, shards] = parse_shard(o.shard);
   proxseg::RgbdNaming naming = o.naming;
@@ -104,6 +104,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
   header["sources"] = o.batch;
   header["shard"] = shards > 1 ? nlohmann::json(o.shard) : nlohmann::json();
   header["frames"] = frames.size();
+  header["frames_all"] = all.size();
   header["proxseg"] = proxseg::build_info();
   header["runner"] = "cli";
   const std::set<std::string> finished =
@@ -139,7 +140,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
   }
   log.close(interrupted(), proxseg::peak_resident_mib());
 
-  const nlohmann::json summary = proxseg::summarize({log.path()});
+  const nlohmann::json summary = proxseg::summarize({log.path()}, shards == 1);
   const std::string summary_json = (fs::path(out_dir) / (name + ".json")).string();
   proxseg::write_file_atomic(summary_json, summary.dump(2) + "\n");
   if (json)
@@ -155,7 +156,8 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
 
 void add_summary(CLI::App& app, SummaryOptions& o) {
   auto* cmd = app.add_subcommand(
-      "summary", "Merge the summaries of a batch's shards (OUT/summary*.jsonl) into OUT/summary.json");
+      "summary",
+      "Merge the summaries of a batch's shards (OUT/summary*.jsonl) into OUT/summary.json");
   cmd->add_option("output", o.output, "The batch's output folder")->required();
   cmd->add_flag("--json", o.json, "Print the merged summary on stdout");
 }
@@ -164,7 +166,7 @@ int run_summary(const SummaryOptions& o) {
   std::error_code ec;
   if (!fs::is_directory(o.output, ec))
     throw proxseg::FileError(o.output + ": not a folder (expected a batch's output folder)");
-  const nlohmann::json summary = proxseg::summarize(proxseg::summary_logs(o.output));
+  const nlohmann::json summary = proxseg::summarize(proxseg::summary_logs(o.output), true);
   const std::string path = (fs::path(o.output) / "summary.json").string();
   proxseg::write_file_atomic(path, summary.dump(2) + "\n");
   if (o.json)
@@ -175,7 +177,9 @@ int run_summary(const SummaryOptions& o) {
               << summary["frames_total"].get<std::size_t>() << " frames done, "
               << summary["frames_failed"].get<std::size_t>() << " failed, "
               << summary["frames_missing"].get<std::size_t>() << " missing\n";
-  return summary["frames_failed"].get<std::size_t>() + summary["frames_missing"].get<std::size_t>() > 0
+  return summary["frames_failed"].get<std::size_t>() +
+                     summary["frames_missing"].get<std::size_t>() >
+                 0
              ? 1
              : 0;
 }

@@ -66,8 +66,7 @@ void check_batch_options(const SegmentOptions& o);
 // holds the command's "command", "parameters" (and "database"); the rest is added here. An
 // interrupt stops between frames. Returns the exit code: 0, 1 when a frame failed,
 // kInterruptedExit.
-int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json,
-              nlohmann::json header,
+int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
               const std::function<nlohmann::json(const proxseg::FrameSource&)>& job);
 
 // Interrupts (SIGINT, SIGTERM) during batch work: after catch_interrupts(), the first one only

@@ -174,8 +174,8 @@ int run_recognize(const RecognizeOptions& o) {
         {{"command", "recognize"},
          {"outputs", proxseg::to_string(outputs)},
          {"database", o.db},
-         {"parameters", {{"segmentation", proxseg::to_json(seg)},
-                         {"recognition", proxseg::to_json(rec)}}}},
+         {"parameters",
+          {{"segmentation", proxseg::to_json(seg)}, {"recognition", proxseg::to_json(rec)}}}},
         [&](const proxseg::FrameSource& f) { return proxseg::recognize_frame(f, job, db); });
   }
 
@@ -195,9 +195,9 @@ int run_recognize(const RecognizeOptions& o) {
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 
-  nlohmann::json report = proxseg::recognition_report(
-      object ? o.object : (o.input.empty() ? o.color : o.input), o.db, db, rec,
-      object ? nullptr : &seg, objects);
+  nlohmann::json report =
+      proxseg::recognition_report(object ? o.object : (o.input.empty() ? o.color : o.input), o.db,
+                                  db, rec, object ? nullptr : &seg, objects);
   report["times_ms"] = {{"load_database", load_ms},
                         {"segment", segment_ms},
                         {"recognize", recognize_ms},

@@ -83,8 +83,8 @@ int run_segment(const SegmentCommand& o) {
     for (const auto& f : proxseg::output_files(o.output, outputs, false))
       written += (written.empty() ? "" : " ") + f;
     std::cout << written << ": " << result.voxels.size() << " voxels, "
-              << result.initial_centroids.size() << " initial centroids, k = " << result.k()
-              << ", " << report["selection"]["candidates"].get<int>() << " candidates, "
+              << result.initial_centroids.size() << " initial centroids, k = " << result.k() << ", "
+              << report["selection"]["candidates"].get<int>() << " candidates, "
               << report["times_ms"]["total"].get<double>() << " ms\n";
   }
   return 0;

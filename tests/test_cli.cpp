@@ -441,4 +441,3 @@ TEST(Cli, RecognizesXyzOnlyClouds) {
   EXPECT_FALSE(proxseg::read_pcd(s.string() + ".pcd", "object").coloured());
   EXPECT_EQ(cv::imread(s.string() + ".png").rows, 480);
 }
-

@@ -166,6 +166,7 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     if command == "recognize":
         header["database"] = os.fspath(db)
     header.update({"sources": sources, "shard": None, "frames": len(frames),
+                   "frames_all": len(frames),
                    "proxseg": _proxseg.build_info(), "runner": "dask"})
     finished = _proxseg._finished_frames(out_dir) if resume else set()
     todo = [f for f in frames if f["id"] not in finished]
@@ -187,7 +188,7 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
             client = Client(scheduler)
         else:
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   host="127.0.0.1", dashboard_address=None)
+                                   host="127.0.0.1", dashboard_address="127.0.0.1:0")
             client = Client(cluster)
     peak = 0.0
     try:
@@ -213,7 +214,9 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
             client.close()
             if cluster is not None:
                 cluster.close()
-    summary = _proxseg._summarize([log.path])
+    # What a worker killed mid-frame left (hidden temporary files): its frame was done again.
+    _proxseg._remove_stale_temporaries(out_dir, todo)
+    summary = _proxseg._summarize([log.path], True)
     _write_atomic(os.path.join(out_dir, "summary.json"), json.dumps(summary, indent=2) + "\n")
     return summary
 

@@ -138,8 +138,10 @@ void bind_batch(py::module_& m) {
       py::arg("out_dir"), py::arg("frames"));
   m.def(
       "_summarize",
-      [](const std::vector<std::string>& logs) { return json_to_python(summarize(logs)); },
-      py::arg("logs"));
+      [](const std::vector<std::string>& logs, bool whole_batch) {
+        return json_to_python(summarize(logs, whole_batch));
+      },
+      py::arg("logs"), py::arg("whole_batch"));
   m.def("_summary_logs", &summary_logs, py::arg("out_dir"));
   m.def("_peak_resident_mib", &peak_resident_mib);
   m.def("_resident_mib", &resident_mib);

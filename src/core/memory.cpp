@@ -1,11 +1,11 @@
 #include <proxseg/core/memory.hpp>
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <cstddef>  // defines __GLIBC__ with glibc
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
-#include <sys/resource.h>
-#include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #include <sys/mman.h>

@@ -219,7 +219,9 @@ SummaryLog::~SummaryLog() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void SummaryLog::append(const nlohmann::json& row) { write_all(fd_, row.dump() + "\n", path_); }
+void SummaryLog::append(const nlohmann::json& row) {
+  write_all(fd_, row.dump() + "\n", path_);
+}
 
 void SummaryLog::close(bool interrupted, double peak_rss_mib) {
   write_all(fd_,
@@ -247,7 +249,10 @@ std::set<std::string> finished_frames(const std::string& out_dir) {
   std::map<std::string, nlohmann::json> last;
   for (const std::string& log : summary_logs(out_dir))
     for (nlohmann::json& line : read_log(log))
-      if (line.contains("frame")) last[line["frame"].get<std::string>()] = std::move(line);
+      if (line.contains("frame")) {
+        const std::string id = line["frame"];  // before the move below (C++17 order)
+        last[id] = std::move(line);
+      }
   std::set<std::string> done;
   for (const auto& [id, row] : last) {
     if (row.contains("error") || !row.contains("outputs")) continue;
@@ -292,11 +297,13 @@ std::size_t remove_stale_temporaries(const std::string& out_dir,
   return removed;
 }
 
-nlohmann::json summarize(const std::vector<std::string>& logs) {
+nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch) {
   nlohmann::json first;  // the first header: the settings every log must share
   std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
       natural_less);
-  std::size_t total = 0;
+  std::size_t total = 0, batch_total = 0;
+  std::set<std::string> shard_names;
+  int shard_count = 1;
   bool interrupted = false;
   double peak = 0;
   nlohmann::json shards = nlohmann::json::array();
@@ -312,7 +319,8 @@ nlohmann::json summarize(const std::vector<std::string>& logs) {
         interrupted = interrupted || line["end"].value("interrupted", false);
         peak = std::max(peak, line["end"].value("peak_rss_mib", 0.0));
       } else if (line.contains("frame")) {
-        rows[line["frame"].get<std::string>()] = std::move(line);
+        const std::string id = line["frame"];  // before the move below (C++17 order)
+        rows[id] = std::move(line);
       }
     }
     if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
@@ -322,29 +330,46 @@ nlohmann::json summarize(const std::vector<std::string>& logs) {
                        " (expected shards of one batch)");
     interrupted = interrupted || !ended;  // killed, or still running
     total += header.value("frames", std::size_t{0});
-    shards.push_back(header.value("shard", nlohmann::json()));
+    batch_total = std::max(batch_total, header.value("frames_all", std::size_t{0}));
+    const nlohmann::json shard = header.value("shard", nlohmann::json());
+    shards.push_back(shard);
+    if (shard.is_string()) {
+      shard_names.insert(shard.get<std::string>());
+      const std::string s = shard;
+      shard_count = std::max(shard_count, std::atoi(s.c_str() + s.find('/') + 1));
+    }
   }
   if (first.is_null()) throw InputError("no batch summaries (summary*.jsonl) to merge");
+  nlohmann::json missing = nlohmann::json::array();
+  if (whole_batch) {
+    total = std::max(total, batch_total);
+    if (!shard_names.empty())
+      for (int i = 1; i <= shard_count; ++i)
+        if (!shard_names.count(std::to_string(i) + "/" + std::to_string(shard_count)))
+          missing.push_back(std::to_string(i) + "/" + std::to_string(shard_count));
+  }
   std::size_t done = 0, failed = 0;
   nlohmann::json frames = nlohmann::json::array();
   for (auto& [id, row] : rows) {
     (row.contains("error") ? failed : done) += 1;
     frames.push_back(std::move(row));
   }
-  return {{"command", first["command"]},
-          {"sources", first["sources"]},
-          {"shards", shards},
-          {"frames_total", total},
-          {"frames_done", done},
-          {"frames_failed", failed},
-          {"frames_missing", total > done + failed ? total - done - failed : 0},
-          {"interrupted", interrupted},
-          {"peak_rss_mib", peak},
-          {"frames", frames},
-          {"proxseg", first["proxseg"]},
-          {"outputs", first["outputs"]},
-          {"database", first.value("database", nlohmann::json())},
-          {"parameters", first["parameters"]}};
+  nlohmann::json summary = {{"command", first["command"]},
+                            {"sources", first["sources"]},
+                            {"shards", shards},
+                            {"frames_total", total},
+                            {"frames_done", done},
+                            {"frames_failed", failed},
+                            {"frames_missing", total > done + failed ? total - done - failed : 0},
+                            {"interrupted", interrupted},
+                            {"peak_rss_mib", peak},
+                            {"frames", frames},
+                            {"proxseg", first["proxseg"]},
+                            {"outputs", first["outputs"]},
+                            {"database", first.value("database", nlohmann::json())},
+                            {"parameters", first["parameters"]}};
+  if (whole_batch && !shard_names.empty()) summary["shards_missing"] = missing;
+  return summary;
 }
 
 }  // namespace proxseg

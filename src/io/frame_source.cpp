@@ -30,7 +30,9 @@ bool is_cloud(const fs::path& p) {
   return ext == ".pcd" || ext == ".ply";
 }
 
-fs::path normal(const fs::path& p) { return fs::absolute(p).lexically_normal(); }
+fs::path normal(const fs::path& p) {
+  return fs::absolute(p).lexically_normal();
+}
 
 // A naming pattern split at its one {id}: prefix, suffix.
 struct Pattern {
@@ -115,7 +117,12 @@ class Collector {
       s.camera = normal(dir / f[2]).string();
     else if (!naming_.intrinsics.empty())
       s.camera = normal(naming_.intrinsics).string();
-    found_.push_back({fs::path(s.color).replace_extension(), s, origin});
+    // Named like the colour pattern: the pattern's id; else the image's name.
+    std::string base, id;
+    const fs::path key = match_pattern(color_, fs::path(s.color).generic_string(), base, id)
+                             ? fs::path(base + id)
+                             : fs::path(s.color).replace_extension();
+    found_.push_back({key, s, origin});
   }
 
   std::vector<Found>& found() { return found_; }
@@ -149,7 +156,9 @@ std::vector<fs::path> walk(const fs::path& dir) {
   return files;
 }
 
-bool has_wildcard(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
+bool has_wildcard(const std::string& s) {
+  return s.find_first_of("*?[") != std::string::npos;
+}
 
 std::vector<std::string> split(const std::string& path) {
   std::vector<std::string> parts;
@@ -182,8 +191,7 @@ void add_glob(const std::string& glob, Collector& c) {
   if (!fs::is_directory(root, ec))
     throw FileError(glob + ": no folder " + root.string() + " (expected a glob of existing files)");
   for (const fs::path& f : walk(root))
-    if (glob_match(pattern, 0, split(f.lexically_relative(root).string()), 0))
-      c.add_file(f, glob);
+    if (glob_match(pattern, 0, split(f.lexically_relative(root).string()), 0)) c.add_file(f, glob);
 }
 
 void add_list(const fs::path& list, Collector& c) {
@@ -279,10 +287,7 @@ std::vector<FrameSource> discover_frames(const std::vector<std::string>& sources
       for (const fs::path& f : walk(source)) c.add_file(f, source);
       if (sources.size() == 1) root = normal(source);
     } else if (fs::is_regular_file(source, ec)) {
-      if (is_cloud(source))
-        c.add_file(source, source);
-      else
-        add_list(source, c);
+      if (!c.add_file(source, source)) add_list(source, c);  // a frame, else a list of them
     } else {
       throw FileError(source +
                       ": no such file or folder (expected a folder, a list file, a glob or a "

@@ -292,18 +292,24 @@ nlohmann::json build_info() {
 }
 
 OutputSet parse_outputs(const std::string& list, const std::string& field) {
-  if (list.empty()) throw InputError(field + ": no outputs (expected labels, pcd, png, json or all)");
+  if (list.empty())
+    throw InputError(field + ": no outputs (expected labels, pcd, png, json or all)");
   OutputSet o{false, false, false, false};
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t end = std::min(list.find(',', start), list.size());
     const std::string word = list.substr(start, end - start);
     start = end + 1;
-    if (word == "labels") o.labels = true;
-    else if (word == "pcd") o.pcd = true;
-    else if (word == "png") o.png = true;
-    else if (word == "json") o.json = true;
-    else if (word == "all") o = OutputSet{true, true, true, true};
+    if (word == "labels")
+      o.labels = true;
+    else if (word == "pcd")
+      o.pcd = true;
+    else if (word == "png")
+      o.png = true;
+    else if (word == "json")
+      o.json = true;
+    else if (word == "all")
+      o = OutputSet{true, true, true, true};
     else
       throw InputError(field + ": unknown output \"" + word +
                        "\" (expected labels, pcd, png, json or all, comma-separated)");
@@ -351,8 +357,8 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
       [&] {
         report = segmentation_report(frame, params, result);
         if (outputs.pcd)
-          pcd = pcd_bytes(frame,
-                          {{"label", result.point_labels}, {"instance", result.selection.instance}});
+          pcd = pcd_bytes(
+              frame, {{"label", result.point_labels}, {"instance", result.selection.instance}});
         if (outputs.labels) {
           label = label_png(frame, result.point_labels);
           instance = label_png(frame, result.selection.instance);

@@ -30,8 +30,8 @@ struct RecognizeJob {
   OutputSet outputs;
   SegmentParams segmentation;
   RecognitionParams recognition;
-  std::string db_dir;     // where the database was loaded from (named in the reports)
-  double load_ms = 0;     // the time it took (the reports' times_ms.load_database)
+  std::string db_dir;  // where the database was loaded from (named in the reports)
+  double load_ms = 0;  // the time it took (the reports' times_ms.load_database)
 };
 
 // One frame of a batch, start to end: reads it, segments it, writes its outputs (all or none).
@@ -91,13 +91,15 @@ std::set<std::string> finished_frames(const std::string& out_dir);
 std::size_t remove_stale_temporaries(const std::string& out_dir,
                                      const std::vector<FrameSource>& frames);
 
-// The summary of the runs logged in the given .jsonl files (a shard's own, or every one of a
-// folder: summary_logs): {"command", "sources", "shards", "frames_total", "frames_done",
-// "frames_failed", "frames_missing" (total - done - failed), "interrupted" (a log whose last run
-// did not end), "peak_rss_mib", "frames" (the last row of each frame, in natural order of ids),
-// "proxseg", "parameters", "outputs", "database"}. InputError when the logs' headers disagree
-// on the command, outputs, parameters or database, or a log has no header.
-nlohmann::json summarize(const std::vector<std::string>& logs);
+// The summary of the runs logged in the given .jsonl files: {"command", "sources", "shards" (each
+// log's "I/N" or null), "frames_total", "frames_done", "frames_failed", "frames_missing" (total -
+// done - failed), "interrupted" (a log whose last run did not end), "peak_rss_mib", "frames" (the
+// last row of each frame, in natural order of ids), "proxseg", "parameters", "outputs",
+// "database"}. whole_batch = false (one shard's own summary): frames_total counts the logs'
+// frames. true (`proxseg summary`, merging shards): the whole batch's frames, and
+// "shards_missing" lists the shards without a log. InputError when the logs' headers disagree on
+// the command, outputs, parameters or database, or a log has no header.
+nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch);
 // Every OUT/summary*.jsonl, sorted.
 std::vector<std::string> summary_logs(const std::string& out_dir);
 

@@ -43,10 +43,10 @@ struct FrameSource {
 //   naming.color, recursively (hidden entries and symbolic links to folders are not followed);
 // - a glob, when it holds *, ? or [...]: the files whose paths match it ('*' and '?' do not cross
 //   '/', "**/" matches any number of folders), kept when they are clouds or colour images;
-// - a list file (any other file name but .pcd/.ply): one input per line, a cloud or a colour
+// - a .pcd or .ply file, or a colour image named by naming.color: that frame;
+// - a list file (any other file): one input per line, a cloud or a colour
 //   image (named by naming.color), or "COLOR DEPTH [META_OR_INTRINSICS.json]"; relative paths
-//   are relative to the list's folder; blank lines and lines starting with '#' are skipped;
-// - a .pcd or .ply file: that frame.
+//   are relative to the list's folder; blank lines and lines starting with '#' are skipped.
 // Ids are relative to the root: the folder itself when the only source is a folder, else the
 // deepest folder that holds every frame. InputError (naming the source, or the list file and
 // line) for a source that does not exist, a list line that is not a frame, no frame at all, or
