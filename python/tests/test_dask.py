@@ -198,3 +198,40 @@ def test_the_command_line_entry_point(dataset, cli_batch, tmp_path):
                         "--set", "voxel_size=0.03", "--threads", "1", "--outputs", "all"],
                        capture_output=True, text=True, env=env)
     assert r.returncode == 1 and "voxel_size" in r.stderr, r.stderr
+
+
+def test_the_several_machine_steps_on_one_machine(dataset, cli_batch, tmp_path):
+    """docs/batch.md's steps with every process on this machine: dask-scheduler, dask-worker
+    processes (one thread each), and the driver given the scheduler's address."""
+    import shutil
+    import socket
+    scheduler_cmd, worker_cmd = shutil.which("dask-scheduler"), shutil.which("dask-worker")
+    assert scheduler_cmd and worker_cmd, "dask-scheduler / dask-worker missing (python3-distributed)"
+    with socket.socket() as s:  # a free port on the loopback interface
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    env = dict(os.environ)
+    procs = [subprocess.Popen([scheduler_cmd, "--host", "127.0.0.1", "--port", str(port),
+                               "--dashboard-address", "127.0.0.1:0"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)]
+    try:
+        procs.append(subprocess.Popen([worker_cmd, address, "--nworkers", "2", "--nthreads", "1",
+                                       "--host", "127.0.0.1", "--dashboard-address",
+                                       "127.0.0.1:0"],
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                      env=env))
+        with Client(address, timeout=120) as client:
+            client.wait_for_workers(2, timeout=120)
+        r = subprocess.run([sys.executable, "-m", "proxseg.dask", "segment", "--batch",
+                            str(dataset), "-o", str(tmp_path / "out"), "--scheduler", address,
+                            "--threads", "1", "--outputs", "all", "--json"],
+                           capture_output=True, text=True, env=env, timeout=600)
+        assert r.returncode == 0, r.stderr
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=60)
+    assert_same_summary(json.loads(r.stdout), json.loads((cli_batch / "summary.json").read_text()))
+    assert_same_outputs(cli_batch, tmp_path / "out")
