@@ -27,7 +27,7 @@ CliRun run(const std::string& args) {
 TEST(Cli, HelpOnEveryCommand) {
   for (const char* cmd :
        {"--help", "segment --help", "synth --help", "eval-seg --help", "db --help", "db add --help",
-        "db render --help", "db info --help", "recognize --help"}) {
+        "db render --help", "db info --help", "recognize --help", "summary --help"}) {
     const CliRun r = run(cmd);
     EXPECT_EQ(r.code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd;

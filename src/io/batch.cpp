@@ -78,22 +78,22 @@ std::string header_difference(const nlohmann::json& a, const nlohmann::json& b) 
   return "";
 }
 
-// The whole lines of a summary log, parsed; a line that does not parse (the half-written last
-// line of a killed run) ends the list. whole_bytes: where the whole lines end.
-std::vector<nlohmann::json> read_log(const std::string& path, std::size_t* whole_bytes = nullptr) {
+// Visits the whole lines of a summary log, parsed, in order; a line that does not parse (the
+// half-written last line of a killed run) ends them. One line at a time: a log of a million
+// frames is never all in memory. Returns where the whole lines end.
+template <class Visit>
+std::size_t for_each_line(const std::string& path, Visit&& visit) {
   std::ifstream in(path, std::ios::binary);
-  std::vector<nlohmann::json> lines;
   std::size_t end = 0;
   std::string line;
   while (std::getline(in, line)) {
     if (in.eof()) break;  // no newline after it: not whole
     nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
     if (j.is_discarded() || !j.is_object()) break;
-    lines.push_back(std::move(j));
+    visit(j);
     end += line.size() + 1;
   }
-  if (whole_bytes) *whole_bytes = end;
-  return lines;
+  return end;
 }
 
 void write_all(int fd, const std::string& bytes, const std::string& path) {
@@ -196,16 +196,17 @@ SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
                      "folder and shard)");
   }
   try {
-    std::size_t whole = 0;
-    const std::vector<nlohmann::json> lines = resume ? read_log(path_, &whole) : decltype(lines){};
-    for (auto it = lines.rbegin(); it != lines.rend(); ++it)
-      if (it->contains("header")) {
-        const std::string diff = header_difference((*it)["header"], header);
-        if (!diff.empty())
-          throw InputError(path_ + ": the earlier run differs in " + diff +
-                           " (expected the same settings to resume; use another output folder)");
-        break;
-      }
+    nlohmann::json earlier;  // the last run's header
+    const std::size_t whole = resume ? for_each_line(path_,
+                                                     [&](nlohmann::json& line) {
+                                                       if (line.contains("header"))
+                                                         earlier = std::move(line["header"]);
+                                                     })
+                                     : 0;
+    if (!earlier.is_null())
+      if (const std::string diff = header_difference(earlier, header); !diff.empty())
+        throw InputError(path_ + ": the earlier run differs in " + diff +
+                         " (expected the same settings to resume; use another output folder)");
     if (::ftruncate(fd_, static_cast<off_t>(whole)) != 0)
       throw FileError(path_ + ": cannot write (" + std::strerror(errno) + ")");
     write_all(fd_, nlohmann::json{{"header", header}}.dump() + "\n", path_);
@@ -246,21 +247,23 @@ std::vector<std::string> summary_logs(const std::string& out_dir) {
 }
 
 std::set<std::string> finished_frames(const std::string& out_dir) {
-  std::map<std::string, nlohmann::json> last;
+  // Per frame its last row's files and sizes (none for an error): small, however long the log.
+  std::map<std::string, std::vector<std::pair<std::string, std::uintmax_t>>> last;
   for (const std::string& log : summary_logs(out_dir))
-    for (nlohmann::json& line : read_log(log))
-      if (line.contains("frame")) {
-        const std::string id = line["frame"];  // before the move below (C++17 order)
-        last[id] = std::move(line);
-      }
+    for_each_line(log, [&](const nlohmann::json& line) {
+      if (!line.contains("frame")) return;
+      auto& files = last[line["frame"].get<std::string>()];
+      files.clear();
+      if (line.contains("error") || !line.contains("outputs")) return;
+      for (const auto& [file, bytes] : line["outputs"].items())
+        files.emplace_back(file, bytes.get<std::uintmax_t>());
+    });
   std::set<std::string> done;
-  for (const auto& [id, row] : last) {
-    if (row.contains("error") || !row.contains("outputs")) continue;
-    bool whole = true;
-    for (const auto& [file, bytes] : row["outputs"].items()) {
+  for (const auto& [id, files] : last) {
+    bool whole = !files.empty();
+    for (const auto& [file, bytes] : files) {
       std::error_code ec;
-      whole = whole && fs::file_size(fs::path(out_dir) / file, ec) == bytes.get<std::uintmax_t>() &&
-              !ec;
+      whole = whole && fs::file_size(fs::path(out_dir) / file, ec) == bytes && !ec;
     }
     if (whole) done.insert(id);
   }
@@ -310,7 +313,7 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
   for (const std::string& log : logs) {
     nlohmann::json header;
     bool ended = false;
-    for (nlohmann::json& line : read_log(log)) {
+    for_each_line(log, [&](nlohmann::json& line) {
       if (line.contains("header")) {
         header = line["header"];
         ended = false;
@@ -322,7 +325,7 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
         const std::string id = line["frame"];  // before the move below (C++17 order)
         rows[id] = std::move(line);
       }
-    }
+    });
     if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
     if (first.is_null()) first = header;
     if (const std::string diff = header_difference(first, header); !diff.empty())
