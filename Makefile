@@ -18,6 +18,9 @@
 #                   100-frame loop in one process against 100 CLI calls
 #   make bench-dbscale  only the database-size benchmark: recognition cost and accuracy with
 #                   64-512 views (LINEMOD + distractors), shortlist against every view
+#   make bench-batch  only batch work: segment --batch (all cores, one thread), proxseg.dask and one
+#                   CLI call per frame on 100 frames; bytes per --outputs choice; RSS over 2,000
+#                   frames (fails above 5 % growth)
 BUILD ?= build
 # The Python the module is built for (python/CMakeLists.txt prefers Debian's).
 PYTHON ?= /usr/bin/python3
@@ -26,7 +29,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python bench-batch format clean
 
 all: build
 
@@ -81,7 +84,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python
+bench: bench-seg bench-rec bench-mem bench-scenes bench-dbscale bench-python bench-batch
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
@@ -144,6 +147,16 @@ bench-python: configure
 	@$(PYTHON) bench/python_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
 	@bash scripts/update-results.sh docs/results.md python $(BUILD)/bench-out/python.md
 	@echo "docs/results.md (python) regenerated; raw figures in $(BUILD)/bench-out/python.json"
+
+# Batch work (bench/batch_bench.py): throughput of segment --batch (all cores; --threads 1),
+# proxseg.dask (2 workers) and one CLI call per frame on the same 100 frames (mOSD + YCB-Video
+# pairs), bytes written per --outputs choice, RSS over a 2,000-frame batch (fails above 5 %
+# growth), the cost of 100k frames on N workers: about 10 min on 2 cores.
+bench-batch: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target _proxseg proxseg_cli
+	@$(PYTHON) bench/batch_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
+	@bash scripts/update-results.sh docs/results.md batch $(BUILD)/bench-out/batch.md
+	@echo "docs/results.md (batch) regenerated; raw figures in $(BUILD)/bench-out/batch.json"
 
 format:
 	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp python/src/*.cpp python/src/*.hpp

@@ -102,7 +102,8 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   }
   const auto frames = proxseg::shard_frames(all, shard, shards);
   header["sources"] = o.batch;
-  header["shard"] = shards > 1 ? nlohmann::json(o.shard) : nlohmann::json();
+  const std::string shard_name = std::to_string(shard) + "/" + std::to_string(shards);
+  header["shard"] = shards > 1 ? nlohmann::json(shard_name) : nlohmann::json();
   header["frames"] = frames.size();
   header["frames_all"] = all.size();
   header["proxseg"] = proxseg::build_info();
@@ -116,7 +117,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   proxseg::SummaryLog log(out_dir, name, header, o.resume);  // locked: this shard is ours
   if (o.resume) proxseg::remove_stale_temporaries(out_dir, todo);
   std::cerr << "proxseg: " << frames.size() << " frames"
-            << (shards > 1 ? " in shard " + o.shard + " of " + std::to_string(all.size()) : "")
+            << (shards > 1 ? " in shard " + shard_name + " of " + std::to_string(all.size()) : "")
             << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
             << "\n";
 
