@@ -179,10 +179,13 @@ def run_polled(cmd, out_dir, log, env=None, poll=0.02, parallel=1):
 
 
 def read_summary(out_dir, expected):
+    """summary.json, with "rows": the frames' rows of summary.jsonl (one run: one a frame)."""
     s = json.loads(Path(out_dir, "summary.json").read_text())
     if s["frames_done"] != expected or s["frames_failed"]:
         sys.exit(f"batch_bench: {out_dir}: {s['frames_done']} of {expected} frames done, "
                  f"{s['frames_failed']} failed")
+    lines = Path(out_dir, "summary.jsonl").read_text().splitlines()
+    s["rows"] = [row for row in map(json.loads, lines) if "frame" in row]
     return s
 
 
@@ -302,8 +305,8 @@ def throughput(build, work, frames, src, rounds):
                            for f in frames}
             else:
                 s = res.pop("summary")
-                reports = {row["frame"]: (row["k"], row["candidates"]) for row in s["frames"]}
-                res["row_ms_median"] = statistics.median(row["ms"] for row in s["frames"])
+                reports = {row["frame"]: (row["k"], row["candidates"]) for row in s["rows"]}
+                res["row_ms_median"] = statistics.median(row["ms"] for row in s["rows"])
                 res["peak_rss_mib"] = s["peak_rss_mib"]
             fps.setdefault(c, []).append(fingerprint(out, frames, reports))
             shutil.rmtree(out)
@@ -378,7 +381,7 @@ def bytes_written(build, work, frames, src):
         print(f"batch_bench: bytes, --outputs {choice} ...", file=sys.stderr, flush=True)
         r = run_batch_cli(build, src, d, logs / f"bytes-{choice.replace(',', '+')}.stderr", frames,
                           ["--outputs", choice])
-        rows = {row["frame"]: row for row in r["summary"]["frames"]}
+        rows = {row["frame"]: row for row in r["summary"]["rows"]}
         per = {}
         files = {}
         for f in frames:
@@ -419,7 +422,7 @@ def memory(build, work, learn, pairs, n, max_growth):
     kinds = make_long_set(src, learn, pairs, n)
     d = work / "runs" / "long"
     r = run_batch_cli(build, src, d, work / "logs" / "long.stderr", kinds, ["--outputs", "labels"])
-    rows = sorted(r.pop("summary")["frames"], key=lambda row: row["frame"])  # fNNNNN: run order
+    rows = sorted(r.pop("summary")["rows"], key=lambda row: row["frame"])  # fNNNNN: run order
     shutil.rmtree(d)
     shutil.rmtree(src)
     rss = [row["rss_mib"] for row in rows]

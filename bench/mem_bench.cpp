@@ -111,10 +111,12 @@ int main(int argc, char** argv) {
     }
     const Run batch =
         run(cli, {"segment", "--batch", in.string(), "-o", (work / "batch-out").string()}, log);
-    std::ifstream sin(work / "batch-out" / "summary.json");
-    const nlohmann::json summary = nlohmann::json::parse(sin);
+    // The frames' rows of the batch's summary.jsonl (one run: one row a frame, in order).
     std::vector<double> rss;
-    for (const auto& s : summary["frames"]) rss.push_back(s["rss_mib"].get<double>());
+    std::ifstream sin(work / "batch-out" / "summary.jsonl");
+    for (std::string line; std::getline(sin, line);)
+      if (const auto row = nlohmann::json::parse(line); row.contains("frame"))
+        rss.push_back(row["rss_mib"].get<double>());
     if (static_cast<int>(rss.size()) != frames)
       throw std::runtime_error("batch summary has " + std::to_string(rss.size()) + " frames");
     const double at10 = rss[std::min(9, frames - 1)], last = rss.back();
@@ -124,7 +126,7 @@ int main(int argc, char** argv) {
     std::ostringstream md;
     md << "## Memory\n\nPeak resident set of the `proxseg` process (Linux `wait4`), and the "
           "resident "
-          "set after each frame of a batch (`segment --batch`, its `summary.json`). "
+          "set after each frame of a batch (`segment --batch`, the rows of its `summary.jsonl`). "
        << "`make bench` fails if the batch grows by more than " << fixed(100 * max_growth)
        << " % from frame 10 to frame " << frames << ".\n\n"
        << "| run | peak RSS (MiB) |\n|---|---:|\n"

@@ -293,7 +293,25 @@ TEST(Batch, SummaryLogKeepsWholeLinesLocksAndChecksTheSettings) {
   EXPECT_EQ(s["frames_total"], 2);
   EXPECT_EQ(s["frames_done"], 1);
   EXPECT_EQ(s["frames_failed"], 1);
+  EXPECT_EQ(s["failed"],
+            nlohmann::json::array({nlohmann::json{{"frame", "two"}, {"error", "x.pcd: broken"}}}));
+  EXPECT_EQ(s["bytes_written"], 5);
   EXPECT_FALSE(s["interrupted"].get<bool>());
+  // The failed frame done on a later resume: each frame's last row counts.
+  {
+    proxseg::SummaryLog log(out.string(), "summary", header, true);
+    log.append({{"frame", "two"}, {"outputs", {{"two.json", 3}}}});
+    log.close(false, 90);
+  }
+  const nlohmann::json again = proxseg::summarize({(out / "summary.jsonl").string()}, true);
+  EXPECT_EQ(again["frames_done"], 2);
+  EXPECT_EQ(again["frames_failed"], 0);
+  EXPECT_EQ(again["failed"], nlohmann::json::array());
+  EXPECT_EQ(again["bytes_written"], 8);
+  EXPECT_EQ(again["peak_rss_mib"], 100);
+  const nlohmann::json rows = proxseg::frame_rows(out.string());
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1], nlohmann::json({{"frame", "two"}, {"outputs", {{"two.json", 3}}}}));
   // Other parameters may not resume into this folder; a new run may.
   nlohmann::json other = header;
   other["parameters"]["a"] = 2;
@@ -336,13 +354,23 @@ TEST(Batch, ThreeShardsGiveTheOutputsOfOneRun) {
   EXPECT_EQ(merged["frames_done"], kMosd + kYcb);
   EXPECT_EQ(merged["frames_missing"], 0);
   EXPECT_EQ(merged["parameters"], single["parameters"]);
-  ASSERT_EQ(merged["frames"].size(), single["frames"].size());
-  for (std::size_t i = 0; i < merged["frames"].size(); ++i) {
-    EXPECT_EQ(merged["frames"][i]["frame"], single["frames"][i]["frame"]);
-    EXPECT_EQ(sizes_but_json(merged["frames"][i]["outputs"]),
-              sizes_but_json(single["frames"][i]["outputs"]));
-    EXPECT_EQ(merged["frames"][i]["k"], single["frames"][i]["k"]);
+  EXPECT_EQ(merged["logs"],
+            nlohmann::json({"summary.shard-1-of-3.jsonl", "summary.shard-2-of-3.jsonl",
+                            "summary.shard-3-of-3.jsonl"}));
+  EXPECT_FALSE(merged.contains("frames"));  // the rows stay in the logs
+  const auto merged_rows = proxseg::frame_rows(three.string()),
+             single_rows = proxseg::frame_rows(one.string());
+  ASSERT_EQ(merged_rows.size(), static_cast<std::size_t>(kMosd + kYcb));
+  ASSERT_EQ(merged_rows.size(), single_rows.size());
+  std::uintmax_t bytes = 0;
+  for (std::size_t i = 0; i < merged_rows.size(); ++i) {
+    EXPECT_EQ(merged_rows[i]["frame"], single_rows[i]["frame"]);
+    EXPECT_EQ(sizes_but_json(merged_rows[i]["outputs"]), sizes_but_json(single_rows[i]["outputs"]));
+    EXPECT_EQ(merged_rows[i]["k"], single_rows[i]["k"]);
+    for (const auto& [file, size] : merged_rows[i]["outputs"].items())
+      bytes += size.get<std::uintmax_t>();
   }
+  EXPECT_EQ(merged["bytes_written"], bytes);
   // The label images hold the PCD's fields.
   const auto pcd = proxseg::read_pcd((three / "ycb" / "000001.pcd").string(), "instance");
   const auto png = proxseg::read_label_png((three / "ycb" / "000001.instance.png").string());
@@ -413,16 +441,20 @@ TEST(Batch, SegmentBatchReportsABadFrameAndDoesTheRest) {
   EXPECT_EQ(summary["frames_done"], 2);
   EXPECT_EQ(summary["frames_failed"], 1);
   EXPECT_EQ(summary["proxseg"]["version"], PROXSEG_VERSION);
-  ASSERT_EQ(summary["frames"].size(), 3u);
-  EXPECT_EQ(summary["frames"][0]["frame"], "broken");  // natural order
-  EXPECT_NE(summary["frames"][0]["error"].get<std::string>().find("broken.ply"), std::string::npos);
+  ASSERT_EQ(summary["failed"].size(), 1u);
+  EXPECT_EQ(summary["failed"][0]["frame"], "broken");
+  EXPECT_NE(summary["failed"][0]["error"].get<std::string>().find("broken.ply"), std::string::npos);
+  const auto rows = proxseg::frame_rows(out.string());
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0]["frame"], "broken");  // natural order
+  EXPECT_EQ(rows[0], summary["failed"][0]);
   EXPECT_NE(r.err.find("broken.ply"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("frames/s, ETA"), std::string::npos) << r.err;  // the progress bar
   for (const char* ext : {".pcd", ".png", ".json"}) {
     EXPECT_TRUE(fs::exists(out / (std::string("learn0") + ext))) << ext;
     EXPECT_FALSE(fs::exists(out / (std::string("broken") + ext))) << ext;
   }
-  EXPECT_GT(summary["frames"][1]["rss_mib"].get<double>(), 0);
+  EXPECT_GT(rows[1]["rss_mib"].get<double>(), 0);
   EXPECT_EQ(summary["parameters"]["voxels"]["voxel_size"], 0.02);
   // The batch segments each frame exactly as `segment` does.
   ASSERT_EQ(run("segment " + learn0() + " -o " + (out.parent_path() / "single").string()).code, 0);
@@ -469,7 +501,7 @@ TEST(Batch, RecognizeBatchEqualsRecognizeFrameByFrame) {
   const auto summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary["command"], "recognize");
   EXPECT_EQ(summary["frames_done"], kYcb + 1);
-  for (const auto& row : summary["frames"]) {
+  for (const auto& row : proxseg::frame_rows(out.string())) {
     const std::string id = row["frame"];
     const fs::path base = data / id, single = out.parent_path() / "single" / id;
     r = run("recognize --color " + base.string() + "-color.png --depth " + base.string() +

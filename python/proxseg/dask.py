@@ -21,6 +21,7 @@ From Python::
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import sys
@@ -37,7 +38,7 @@ except ImportError:  # pragma: no cover - reported when run
     Client = None  # type: ignore[assignment]
     WorkerPlugin = object  # type: ignore[assignment,misc]
 
-__all__ = ["discover_frames", "run_batch", "main"]
+__all__ = ["discover_frames", "frame_rows", "run_batch", "main"]
 
 _PLUGIN = "proxseg-batch"
 
@@ -52,6 +53,14 @@ def discover_frames(sources: Sequence[str], *, color_pattern: str = "{id}-color.
     return _proxseg._discover_frames([os.fspath(s) for s in sources], color_pattern,
                                      depth_pattern, meta_pattern,
                                      os.fspath(intrinsics) if intrinsics else "")
+
+
+def frame_rows(out_dir: str) -> List[Dict[str, Any]]:
+    """Every frame's row of a batch's ``OUT/summary*.jsonl`` (its last, when a frame was run
+    again), in natural order of ids: ``frame``, ``inputs``, ``outputs`` (file: bytes), ``ms``,
+    ``rss_mib`` and the command's figures (``k``, ``candidates``; recognize: ``objects``), or
+    ``error``. All in memory: about 1 KiB a frame."""
+    return _proxseg._frame_rows(os.fspath(out_dir))
 
 
 class _BatchWorker(WorkerPlugin):
@@ -137,7 +146,8 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
               color_pattern: str = "{id}-color.png", depth_pattern: str = "{id}-depth.png",
               meta_pattern: str = "{id}-meta.json", intrinsics: Optional[str] = None,
               scheduler: Optional[str] = None, client: Any = None, workers: int = 2,
-              retries: int = 2, progress: bool = True) -> Dict[str, Any]:
+              retries: int = 2, max_in_flight: int = 1000,
+              progress: bool = True) -> Dict[str, Any]:
     """Runs ``command`` ("segment" or "recognize", which needs ``db``) over every frame of
     ``sources`` on a Dask cluster and returns the summary written to ``OUT/summary.json``.
 
@@ -147,14 +157,18 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     ``{"segmentation": ..., "recognition": ...}``) and ``overrides`` names parameters as
     :class:`proxseg.SegmentParams` does (for recognize: ``{"segmentation": {...},
     "recognition": {...}}``). ``retries``: further runs of a task that raised (a frame's bad
-    input does not raise: it is a row with "error"). Raises ValueError / OSError for bad input
-    before any work starts."""
+    input does not raise: it is a row with "error"). ``max_in_flight``: frames submitted to the
+    cluster at once (more than its workers, so that none waits; the rest follow as these
+    finish). The summary holds counts and the failed frames' rows; :func:`frame_rows` reads
+    every frame's. Raises ValueError / OSError for bad input before any work starts."""
     if Client is None:
         raise ImportError("proxseg.dask needs Dask distributed (apt install python3-distributed)")
     if command not in ("segment", "recognize"):
         raise ValueError(f"command {command!r} (expected 'segment' or 'recognize')")
     if command == "recognize" and not db:
         raise ValueError("recognize needs db (the model database folder)")
+    if max_in_flight < 1:
+        raise ValueError(f"max_in_flight {max_in_flight} (expected 1 or more)")
     out_dir = os.fspath(out_dir)
     outputs = _proxseg._canonical_outputs(outputs)
     params = _parameters(command, preset, config, overrides or {})
@@ -195,10 +209,20 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
         client.register_worker_plugin(_BatchWorker(job), name=_PLUGIN)
         bar = _Progress(len(todo), not progress)
         run_id = f"{os.getpid()}-{time.time_ns()}"
-        futures = client.map(_run_frame, todo, key=[f"proxseg-{run_id}-{f['id']}" for f in todo],
-                             retries=retries, pure=False)
-        for future in as_completed(futures):
+
+        def submit(frame: Dict[str, str]) -> Any:
+            return client.submit(_run_frame, frame, key=f"proxseg-{run_id}-{frame['id']}",
+                                 retries=retries, pure=False)
+
+        # At most max_in_flight tasks on the cluster at once, the next one submitted as one
+        # finishes: the scheduler's and this process's memory do not grow with the batch.
+        waiting = iter(todo)
+        running = as_completed([submit(f) for f in itertools.islice(waiting, max_in_flight)])
+        for future in running:
             row = future.result()
+            following = next(waiting, None)
+            if following is not None:
+                running.add(submit(following))
             log.append(row)
             peak = max(peak, row.get("rss_mib", 0.0))
             if "error" in row:

@@ -143,6 +143,17 @@ void bind_batch(py::module_& m) {
       },
       py::arg("logs"), py::arg("whole_batch"));
   m.def("_summary_logs", &summary_logs, py::arg("out_dir"));
+  m.def(
+      "_frame_rows",
+      [](const std::string& out_dir) {
+        nlohmann::json rows;
+        {
+          py::gil_scoped_release release;
+          rows = frame_rows(out_dir);
+        }
+        return json_to_python(rows);
+      },
+      py::arg("out_dir"));
   m.def("_peak_resident_mib", &peak_resident_mib);
   m.def("_resident_mib", &resident_mib);
 

@@ -80,15 +80,20 @@ def assert_same_outputs(a: Path, b: Path) -> None:
             assert content == fb[name], name
 
 
-def assert_same_summary(dask_summary: dict, cli_summary: dict) -> None:
+def assert_same_summary(dask_summary: dict, dask_out: Path, cli_out: Path) -> None:
+    """The Dask run's summary and rows against the CLI batch's."""
+    cli_summary = json.loads((cli_out / "summary.json").read_text())
     assert dask_summary["frames_done"] == cli_summary["frames_done"] == MOSD + YCB
     assert dask_summary["frames_failed"] == 0 and dask_summary["frames_missing"] == 0
+    assert dask_summary["failed"] == [] and "frames" not in dask_summary
     assert dask_summary["parameters"] == cli_summary["parameters"]
     assert dask_summary["outputs"] == cli_summary["outputs"]
+    dask_rows, cli_rows = pdask.frame_rows(dask_out), pdask.frame_rows(cli_out)
+    assert len(dask_rows) == MOSD + YCB
     keep = ("frame", "inputs", "k", "candidates")
-    assert ([{k: r[k] for k in keep} for r in dask_summary["frames"]] ==
-            [{k: r[k] for k in keep} for r in cli_summary["frames"]])
-    for d, c in zip(dask_summary["frames"], cli_summary["frames"]):  # reports' sizes vary
+    assert [{k: r[k] for k in keep} for r in dask_rows] == [{k: r[k] for k in keep}
+                                                            for r in cli_rows]
+    for d, c in zip(dask_rows, cli_rows):  # reports' sizes vary
         assert {n: (None if n.endswith(".json") else b) for n, b in d["outputs"].items()} == \
             {n: (None if n.endswith(".json") else b) for n, b in c["outputs"].items()}
 
@@ -98,8 +103,7 @@ def test_a_local_cluster_writes_what_the_cli_batch_writes(dataset, cli_batch, cl
         summary = pdask.run_batch("segment", [dataset], tmp_path / "out", client=client,
                                   outputs="all", overrides={"threads": 1}, progress=False)
     assert summary == json.loads((tmp_path / "out" / "summary.json").read_text())
-    cli_summary = json.loads((cli_batch / "summary.json").read_text())
-    assert_same_summary(summary, cli_summary)
+    assert_same_summary(summary, tmp_path / "out", cli_batch)
     assert_same_outputs(cli_batch, tmp_path / "out")
     # The workers did the work: two processes, each with the library in it.
     header = json.loads((tmp_path / "out" / "summary.jsonl").read_text().splitlines()[0])
@@ -114,9 +118,10 @@ def test_a_worker_killed_mid_run_loses_no_frame(dataset, cli_batch, cluster, tmp
         assert len(pids) == 2
 
         def run():
+            # 3 frames in flight: the rest are submitted as frames finish, the kill among them.
             result["summary"] = pdask.run_batch("segment", [dataset], out, client=client,
                                                 outputs="all", overrides={"threads": 1},
-                                                progress=False)
+                                                max_in_flight=3, progress=False)
 
         worker = threading.Thread(target=run)
         worker.start()
@@ -141,7 +146,7 @@ def test_a_worker_killed_mid_run_loses_no_frame(dataset, cli_batch, cluster, tmp
         # The nanny restarted the worker; the cluster has two again.
         client.wait_for_workers(2, timeout=120)
         assert victim not in client.run(os.getpid).values()
-    assert_same_summary(result["summary"], json.loads((cli_batch / "summary.json").read_text()))
+    assert_same_summary(result["summary"], out, cli_batch)
     assert_same_outputs(cli_batch, out)
 
 
@@ -156,8 +161,8 @@ def test_recognize_on_the_cluster_equals_the_cli(ycb_db, dataset, cluster, tmp_p
                                   progress=False)
     cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert summary["parameters"] == cli_summary["parameters"]
-    assert [r["objects"] for r in summary["frames"]] == [r["objects"] for r in
-                                                          cli_summary["frames"]]
+    assert [r["objects"] for r in pdask.frame_rows(tmp_path / "dask")] == \
+        [r["objects"] for r in pdask.frame_rows(tmp_path / "cli")]
     assert_same_outputs(tmp_path / "cli", tmp_path / "dask")
 
 
@@ -171,7 +176,7 @@ def test_the_command_line_entry_point(dataset, cli_batch, tmp_path):
     summary = json.loads(r.stdout)
     assert summary["frames_done"] == YCB
     assert "frames/s, ETA" in r.stderr
-    for row in summary["frames"]:  # ids relative to the ycb folder here
+    for row in pdask.frame_rows(tmp_path / "out"):  # ids relative to the ycb folder here
         for name in row["outputs"]:
             if not name.endswith(".json"):
                 assert (tmp_path / "out" / name).read_bytes() == \
@@ -233,5 +238,5 @@ def test_the_several_machine_steps_on_one_machine(dataset, cli_batch, tmp_path):
             p.terminate()
         for p in procs:
             p.wait(timeout=60)
-    assert_same_summary(json.loads(r.stdout), json.loads((cli_batch / "summary.json").read_text()))
+    assert_same_summary(json.loads(r.stdout), tmp_path / "out", cli_batch)
     assert_same_outputs(cli_batch, tmp_path / "out")

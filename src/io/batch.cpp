@@ -13,7 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
+#include <unordered_map>
 
 namespace proxseg {
 namespace fs = std::filesystem;
@@ -300,16 +302,33 @@ std::size_t remove_stale_temporaries(const std::string& out_dir,
   return removed;
 }
 
+namespace {
+
+// What summarize keeps of a frame however long the logs: its last row's bytes written and, when
+// that row is an error, the row.
+struct FrameState {
+  std::uintmax_t bytes = 0;
+  nlohmann::json error_row;  // null unless the frame's last row failed
+};
+
+std::uintmax_t bytes_of(const nlohmann::json& row) {
+  std::uintmax_t bytes = 0;
+  if (row.contains("outputs"))
+    for (const auto& [file, size] : row["outputs"].items()) bytes += size.get<std::uintmax_t>();
+  return bytes;
+}
+
+}  // namespace
+
 nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch) {
   nlohmann::json first;  // the first header: the settings every log must share
-  std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
-      natural_less);
+  std::unordered_map<std::string, FrameState> states;
   std::size_t total = 0, batch_total = 0;
   std::set<std::string> shard_names;
   int shard_count = 1;
   bool interrupted = false;
   double peak = 0;
-  nlohmann::json shards = nlohmann::json::array();
+  nlohmann::json shards = nlohmann::json::array(), log_names = nlohmann::json::array();
   for (const std::string& log : logs) {
     nlohmann::json header;
     bool ended = false;
@@ -322,8 +341,9 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
         interrupted = interrupted || line["end"].value("interrupted", false);
         peak = std::max(peak, line["end"].value("peak_rss_mib", 0.0));
       } else if (line.contains("frame")) {
-        const std::string id = line["frame"];  // before the move below (C++17 order)
-        rows[id] = std::move(line);
+        FrameState& state = states[line["frame"].get<std::string>()];
+        state.bytes = bytes_of(line);
+        state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
       }
     });
     if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
@@ -336,6 +356,7 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
     batch_total = std::max(batch_total, header.value("frames_all", std::size_t{0}));
     const nlohmann::json shard = header.value("shard", nlohmann::json());
     shards.push_back(shard);
+    log_names.push_back(fs::path(log).filename().string());
     if (shard.is_string()) {
       shard_names.insert(shard.get<std::string>());
       const std::string s = shard;
@@ -351,28 +372,52 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
         if (!shard_names.count(std::to_string(i) + "/" + std::to_string(shard_count)))
           missing.push_back(std::to_string(i) + "/" + std::to_string(shard_count));
   }
-  std::size_t done = 0, failed = 0;
-  nlohmann::json frames = nlohmann::json::array();
-  for (auto& [id, row] : rows) {
-    (row.contains("error") ? failed : done) += 1;
-    frames.push_back(std::move(row));
+  std::size_t done = 0;
+  std::uintmax_t bytes = 0;
+  std::vector<std::string> failed_ids;
+  for (const auto& [id, state] : states) {
+    if (state.error_row.is_null())
+      ++done;
+    else
+      failed_ids.push_back(id);
+    bytes += state.bytes;
   }
+  std::sort(failed_ids.begin(), failed_ids.end(), natural_less);
+  nlohmann::json failed = nlohmann::json::array();
+  for (const std::string& id : failed_ids) failed.push_back(std::move(states[id].error_row));
+  const std::size_t counted = done + failed_ids.size();
   nlohmann::json summary = {{"command", first["command"]},
                             {"sources", first["sources"]},
                             {"shards", shards},
+                            {"logs", log_names},
                             {"frames_total", total},
                             {"frames_done", done},
-                            {"frames_failed", failed},
-                            {"frames_missing", total > done + failed ? total - done - failed : 0},
+                            {"frames_failed", failed_ids.size()},
+                            {"frames_missing", total > counted ? total - counted : 0},
                             {"interrupted", interrupted},
                             {"peak_rss_mib", peak},
-                            {"frames", frames},
+                            {"bytes_written", bytes},
+                            {"failed", failed},
                             {"proxseg", first["proxseg"]},
                             {"outputs", first["outputs"]},
                             {"database", first.value("database", nlohmann::json())},
                             {"parameters", first["parameters"]}};
   if (whole_batch && !shard_names.empty()) summary["shards_missing"] = missing;
   return summary;
+}
+
+nlohmann::json frame_rows(const std::string& out_dir) {
+  std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
+      natural_less);
+  for (const std::string& log : summary_logs(out_dir))
+    for_each_line(log, [&](nlohmann::json& line) {
+      if (!line.contains("frame")) return;
+      const std::string id = line["frame"];  // before the move below (C++17 order)
+      rows[id] = std::move(line);
+    });
+  nlohmann::json out = nlohmann::json::array();
+  for (auto& [id, row] : rows) out.push_back(std::move(row));
+  return out;
 }
 
 }  // namespace proxseg

@@ -92,15 +92,21 @@ std::size_t remove_stale_temporaries(const std::string& out_dir,
                                      const std::vector<FrameSource>& frames);
 
 // The summary of the runs logged in the given .jsonl files: {"command", "sources", "shards" (each
-// log's "I/N" or null), "frames_total", "frames_done", "frames_failed", "frames_missing" (total -
-// done - failed), "interrupted" (a log whose last run did not end), "peak_rss_mib", "frames" (the
-// last row of each frame, in natural order of ids), "proxseg", "parameters", "outputs",
-// "database"}. whole_batch = false (one shard's own summary): frames_total counts the logs'
-// frames. true (`proxseg summary`, merging shards): the whole batch's frames, and
-// "shards_missing" lists the shards without a log. InputError when the logs' headers disagree on
-// the command, outputs, parameters or database, or a log has no header.
+// log's "I/N" or null), "logs" (their file names), "frames_total", "frames_done",
+// "frames_failed", "frames_missing" (total - done - failed), "interrupted" (a log whose last run
+// did not end), "peak_rss_mib", "bytes_written" (by the frames' last rows), "failed" (the last
+// row of each failed frame, in natural order of ids), "proxseg", "parameters", "outputs",
+// "database"}. Every frame's row stays in the logs (frame_rows reads them): the summary's size
+// and the memory it takes do not grow with the frames done. whole_batch = false (one shard's
+// own summary): frames_total counts the logs' frames. true (`proxseg summary`, merging shards):
+// the whole batch's frames, and "shards_missing" lists the shards without a log. InputError when
+// the logs' headers disagree on the command, outputs, parameters or database, or a log has no
+// header.
 nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch);
 // Every OUT/summary*.jsonl, sorted.
 std::vector<std::string> summary_logs(const std::string& out_dir);
+// The last row of each frame in OUT/summary*.jsonl, in natural order of ids: all of them in
+// memory (about 1 KiB a frame), for a batch's per-frame figures.
+nlohmann::json frame_rows(const std::string& out_dir);
 
 }  // namespace proxseg
