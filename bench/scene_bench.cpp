@@ -14,6 +14,7 @@
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition.hpp>
 #include <proxseg/core/version.hpp>
+#include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
@@ -54,6 +55,9 @@ using proxseg::SceneCurvePoint;
 
 struct Options {
   std::string models = "../shared/data/lmo/models", output, config, peers = "all";
+  // --set objects: the object-varied set (object_set.hpp) instead of the LINEMOD catalogue.
+  std::string set = "lmo", ycbv = "../shared/data/ycbv", textured = "../shared/data/ycb_textured";
+  int fold_scenes = 4, fold_known = 12, fold_unknown = 4;
   std::string dev_seeds = "1-20", report_seeds = "101-120";
   int scenes = 0;
   std::uint32_t first_seed = 1;
@@ -110,15 +114,24 @@ std::string fmt(double v, int digits = 2) {
 std::string pct(double rate) {
   return proxseg::bench::percent(rate);
 }
-struct Split {
-  std::string name;
-  std::vector<std::uint32_t> seeds;
+// The objects a split's scenes are drawn from and the database they are recognised against.
+struct SceneSet {
+  std::string name;  // "lmo", or an object fold's ("A1", ...)
+  proxseg::SceneCatalogue catalogue;
+  proxseg::Database db;
 };
 
-// A recogniser of whole scenes: frame -> predictions.
+struct Split {
+  std::string name;   // "dev", "report", "A1 dev", ...
+  std::string group;  // the tables' row: "dev", "report", "A dev", "B report", ...
+  std::vector<std::uint32_t> seeds;
+  int set = 0;  // index into the scene sets
+};
+
+// A recogniser of whole scenes: frame (and the set's database) -> predictions.
 struct Method {
   std::string label;
-  std::function<std::vector<Prediction>(const proxseg::Frame&)> run;
+  std::function<std::vector<Prediction>(const proxseg::Frame&, const SceneSet&)> run;
 };
 
 // One truth object of one scene with what a method made of it (truths.csv, the failure table).
@@ -254,17 +267,58 @@ std::string top(const std::map<std::string, int>& tally, std::size_t n) {
   return s.empty() ? "-" : s;
 }
 
+// Seeds of fold f's split: the first seed + 1000 f onwards, so that folds draw other scenes.
+std::vector<std::uint32_t> fold_seeds(std::uint32_t first, int count, int fold) {
+  return proxseg::seed_range(first + 1000u * static_cast<std::uint32_t>(fold), count);
+}
+
+// The scene sets and splits: the LINEMOD catalogue with a dev and a report split, or per object
+// fold of --set objects a dev and a report split of --fold-scenes scenes each (groups "A dev",
+// "A report", "B dev", "B report": a rule chosen on one half is scored on the other).
+void make_splits(const Options& o, const proxseg::DescriptorParams& descriptor,
+                 std::vector<SceneSet>& sets, std::vector<Split>& splits) {
+  if (o.set == "lmo") {
+    SceneSet set{"lmo", proxseg::scene_catalogue(o.models), {}};
+    set.db = proxseg::scene_database(set.catalogue, o.views, descriptor);
+    sets.push_back(std::move(set));
+    if (o.scenes > 0) {
+      splits.push_back({"scenes", "scenes", proxseg::seed_range(o.first_seed, o.scenes), 0});
+    } else {
+      splits.push_back({"dev", "dev", parse_seeds(o.dev_seeds, "--dev-seeds"), 0});
+      splits.push_back({"report", "report", parse_seeds(o.report_seeds, "--report-seeds"), 0});
+    }
+    return;
+  }
+  if (o.set != "objects")
+    throw CLI::ValidationError("--set: expected lmo or objects, got '" + o.set + "'");
+  proxseg::ObjectPoolParams pp;
+  pp.linemod_dir = o.models;
+  pp.ycbv_dir = o.ycbv;
+  pp.textured_dir = o.textured;
+  const std::vector<proxseg::PoolObject> pool = proxseg::object_pool(pp);
+  proxseg::ObjectFoldParams fp;
+  fp.known = o.fold_known;
+  fp.unknown = o.fold_unknown;
+  const std::vector<proxseg::ObjectFold> folds = proxseg::object_folds(pool, fp);
+  proxseg::CaptureParams capture;
+  capture.views = o.views;
+  for (std::size_t f = 0; f < folds.size(); ++f) {
+    SceneSet set{folds[f].name, proxseg::fold_catalogue(pool, folds[f]), {}};
+    set.db = proxseg::captured_database(set.catalogue, capture, descriptor);
+    const std::string half(1, char('A' + folds[f].half));
+    const int idx = static_cast<int>(sets.size());
+    sets.push_back(std::move(set));
+    splits.push_back({folds[f].name + " dev", half + " dev",
+                      fold_seeds(1, o.fold_scenes, static_cast<int>(f)), idx});
+    splits.push_back({folds[f].name + " report", half + " report",
+                      fold_seeds(101, o.fold_scenes, static_cast<int>(f)), idx});
+  }
+}
+
 int run(const Options& o) {
   namespace fs = std::filesystem;
   if (o.peers != "all" && o.peers != "none")
     throw CLI::ValidationError("--peers: expected all or none, got '" + o.peers + "'");
-  std::vector<Split> splits;
-  if (o.scenes > 0) {
-    splits.push_back({"scenes", proxseg::seed_range(o.first_seed, o.scenes)});
-  } else {
-    splits.push_back({"dev", parse_seeds(o.dev_seeds, "--dev-seeds")});
-    splits.push_back({"report", parse_seeds(o.report_seeds, "--report-seeds")});
-  }
   proxseg::SegmentParams sp;
   proxseg::RecognitionParams rp;
   if (!o.config.empty()) std::tie(sp, rp) = proxseg::read_recognize_params(o.config, sp, rp);
@@ -283,30 +337,42 @@ int run(const Options& o) {
     throw InputError(o.output + ": cannot create the output folder (" + ec.message() + ")");
 
   auto t0 = Clock::now();
-  const proxseg::SceneCatalogue catalogue = proxseg::scene_catalogue(o.models);
   const proxseg::DescriptorParams descriptor;
-  const proxseg::Database db = proxseg::scene_database(catalogue, o.views, descriptor);
-  std::cerr << "scene_bench: database of " << db.views.size() << " views (" << db.objects().size()
-            << " known objects x " << o.views << ") in " << fmt(seconds_since(t0), 1) << " s\n";
-  const proxseg::SceneSetParams set;
+  std::vector<SceneSet> sets;
+  std::vector<Split> splits;
+  make_splits(o, descriptor, sets, splits);
+  std::size_t views_total = 0;
+  for (const SceneSet& set : sets) views_total += set.db.views.size();
+  std::cerr << "scene_bench: " << sets.size() << " database" << (sets.size() > 1 ? "s" : "")
+            << " of " << views_total / sets.size() << " views on average (" << o.views
+            << " per known object) in " << fmt(seconds_since(t0), 1) << " s\n";
+  const proxseg::SceneSetParams set_params;
+  // The groups of splits that the tables report, in order of first appearance.
+  std::vector<std::string> groups;
+  for (const Split& s : splits)
+    if (std::find(groups.begin(), groups.end(), s.group) == groups.end()) groups.push_back(s.group);
 
   std::vector<Method> methods;
-  methods.push_back({"proxseg", [&](const proxseg::Frame& f) {
+  methods.push_back({"proxseg", [&](const proxseg::Frame& f, const SceneSet& set) {
                        const proxseg::SegmentResult s = proxseg::segment(f, sp);
                        return proxseg::predictions_of(
-                           proxseg::recognize_scene(f, s.selection, db, rp));
+                           proxseg::recognize_scene(f, s.selection, set.db, rp));
                      }});
   proxseg::peers::Open3dParams o3d;
   // rec_bench gives Open3D 100k iterations (its 4M default costs 2.5x, no gain); against 96
   // views for each of ~12 clusters that is ~100 s per scene here, so the scenes default to 10k.
   o3d.ransac_iterations = o.peer_ransac;
-  std::unique_ptr<proxseg::peers::Open3dPeer> open3d;
+  // One peer per database, made when first needed.
+  std::map<const SceneSet*, std::unique_ptr<proxseg::peers::Open3dPeer>> open3d;
   const std::string peer_label =
       "PCL Euclidean + Open3D RANSAC " + std::to_string(o.peer_ransac / 1000) + "k + ICP";
   if (o.peers == "all") {
-    open3d = std::make_unique<proxseg::peers::Open3dPeer>(db, o3d, o.threads);
-    methods.push_back({peer_label, [&](const proxseg::Frame& f) {
-                         return peer_scene(f, db, *open3d, rp, team);
+    methods.push_back({peer_label, [&](const proxseg::Frame& f, const SceneSet& set) {
+                         auto& peer = open3d[&set];
+                         if (!peer)
+                           peer =
+                               std::make_unique<proxseg::peers::Open3dPeer>(set.db, o3d, o.threads);
+                         return peer_scene(f, set.db, *peer, rp, team);
                        }});
   }
 
@@ -316,16 +382,18 @@ int run(const Options& o) {
   std::size_t steps = 0;
   for (const Split& s : splits) steps += s.seeds.size() * methods.size();
   cli::Progress progress(steps);
-  for (std::size_t si = 0; si < splits.size(); ++si)
+  for (std::size_t si = 0; si < splits.size(); ++si) {
+    const SceneSet& set = sets[splits[si].set];
     for (std::uint32_t seed : splits[si].seeds) {
       const proxseg::ClutterScene scene =
-          proxseg::clutter_layout_scene(proxseg::scene_set_params(seed, catalogue, set));
-      const std::vector<proxseg::TruthObject> truth = proxseg::scene_truth(scene, catalogue);
+          proxseg::clutter_layout_scene(proxseg::scene_set_params(seed, set.catalogue, set_params));
+      const std::vector<proxseg::TruthObject> truth = proxseg::scene_truth(scene, set.catalogue);
       for (std::size_t mi = 0; mi < methods.size(); ++mi) {
         const auto start = Clock::now();
-        const std::vector<Prediction> predictions = methods[mi].run(scene.frame);
+        const std::vector<Prediction> predictions = methods[mi].run(scene.frame, set);
         const double sec = seconds_since(start);
-        proxseg::SceneEvaluation e = proxseg::evaluate_scene(seed, truth, predictions, catalogue);
+        proxseg::SceneEvaluation e =
+            proxseg::evaluate_scene(seed, truth, predictions, set.catalogue);
         e.counts.seconds = sec;
         Result& r = results[si][mi];
         r.counts += e.counts;
@@ -351,26 +419,46 @@ int run(const Options& o) {
                       " s");
       }
     }
+  }
+
+  // The splits' results summed per group: the tables' rows.
+  std::vector<std::vector<Result>> grouped(groups.size(), std::vector<Result>(methods.size()));
+  for (std::size_t si = 0; si < splits.size(); ++si) {
+    const std::size_t gi =
+        std::find(groups.begin(), groups.end(), splits[si].group) - groups.begin();
+    for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+      Result& g = grouped[gi][mi];
+      const Result& r = results[si][mi];
+      g.counts += r.counts;
+      g.rows.insert(g.rows.end(), r.rows.begin(), r.rows.end());
+      g.truths.insert(g.truths.end(), r.truths.begin(), r.truths.end());
+      g.points.insert(g.points.end(), r.points.begin(), r.points.end());
+    }
+  }
 
   // The report.
   const std::vector<double> thresholds = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8};
   nlohmann::json summary;
   summary["proxseg"] = {{"version", proxseg::version()}, {"commit", proxseg::git_commit()}};
   nlohmann::json cat = nlohmann::json::array();
-  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
-    cat.push_back({{"name", catalogue.entries[i].name},
-                   {"kind", proxseg::to_string(catalogue.entries[i].kind)},
-                   {"known", catalogue.known[i] != 0},
-                   {"diameter", catalogue.diameters[i]}});
+  for (const SceneSet& set : sets) {
+    nlohmann::json entries = nlohmann::json::array();
+    for (std::size_t i = 0; i < set.catalogue.entries.size(); ++i)
+      entries.push_back({{"name", set.catalogue.entries[i].name},
+                         {"kind", proxseg::to_string(set.catalogue.entries[i].kind)},
+                         {"known", set.catalogue.known[i] != 0},
+                         {"diameter", set.catalogue.diameters[i]}});
+    cat.push_back({{"set", set.name}, {"views", set.db.views.size()}, {"entries", entries}});
+  }
   summary["load_average"] = {{"before", load_before}, {"after", proxseg::bench::load_average()}};
   summary["parameters"] = {{"models", o.models},
-                           {"catalogue", cat},
+                           {"set", o.set},
+                           {"sets", cat},
                            {"views_per_object", o.views},
-                           {"database_views", db.views.size()},
-                           {"min_objects", set.min_objects},
-                           {"max_objects", set.max_objects},
-                           {"catalogue_share", set.catalogue_share},
-                           {"mesh_share", set.mesh_share},
+                           {"min_objects", set_params.min_objects},
+                           {"max_objects", set_params.max_objects},
+                           {"catalogue_share", set_params.catalogue_share},
+                           {"mesh_share", set_params.mesh_share},
                            {"segmentation", proxseg::to_json(sp)},
                            {"recognition", proxseg::to_json(rp)},
                            {"peer", o.peers == "all" ? peer_label : ""},
@@ -380,33 +468,52 @@ int run(const Options& o) {
 
   std::ostringstream md, csv, truth_csv;
   const std::string commit = proxseg::bench::git_commit();
-  std::size_t objects_known = 0;
-  for (char k : catalogue.known) objects_known += k != 0;
   md << "## Scene recognition: segmentation + recognition on generated cluttered tabletops\n\n"
      << "Generated by `make bench-scenes` (bench/scene_bench.cpp) at commit " << commit << " on "
      << machine() << ", " << utc_now() << ", " << team << " threads (load average " << load_before
      << " before the runs, " << proxseg::bench::load_average()
      << " after: the times are wall times). Scenes: the clutter generator "
-     << "(docs/clutter.md) with " << set.min_objects << "-" << set.max_objects
+     << "(docs/clutter.md) with " << set_params.min_objects << "-" << set_params.max_objects
      << " objects; a free or touching object is drawn with probability "
-     << fmt(set.catalogue_share, 2) << " from a catalogue of " << catalogue.entries.size()
-     << " fixed objects (scene_catalogue(), include/proxseg/eval/scene_eval.hpp), at most 2 of "
-        "each "
-        "per scene: "
-     << objects_known << " known (in the database: ";
-  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
-    if (catalogue.known[i]) md << (i ? ", " : "") << catalogue.entries[i].name;
-  md << ") and " << catalogue.entries.size() - objects_known << " unknown (";
-  std::string unknown_names;
-  for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
-    if (!catalogue.known[i])
-      unknown_names += (unknown_names.empty() ? "" : ", ") + catalogue.entries[i].name;
-  md << unknown_names
-     << "); the others are the generator's random boxes and cylinders (unknown too). "
-     << "duck-blue and ape-green are the duck and ape meshes in another hue, the markers one "
-        "cylinder in two colours, the boxes near in shape and different in colour. Database: "
-     << o.views << " noiseless render_views() per known object (" << db.views.size()
-     << " views). proxseg: segment() with "
+     << fmt(set_params.catalogue_share, 2) << " from a catalogue of fixed objects, at most 2 of "
+     << "each per scene; the others are the generator's random boxes and cylinders (unknown). ";
+  if (o.set == "lmo") {
+    const proxseg::SceneCatalogue& catalogue = sets[0].catalogue;
+    std::size_t objects_known = 0;
+    for (char k : catalogue.known) objects_known += k != 0;
+    md << "The catalogue (scene_catalogue(), include/proxseg/eval/scene_eval.hpp): "
+       << objects_known << " known (in the database: ";
+    for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+      if (catalogue.known[i]) md << (i ? ", " : "") << catalogue.entries[i].name;
+    md << ") and " << catalogue.entries.size() - objects_known << " unknown (";
+    std::string unknown_names;
+    for (std::size_t i = 0; i < catalogue.entries.size(); ++i)
+      if (!catalogue.known[i])
+        unknown_names += (unknown_names.empty() ? "" : ", ") + catalogue.entries[i].name;
+    md << unknown_names
+       << "). duck-blue and ape-green are the duck and ape meshes in another hue, the markers one "
+          "cylinder in two colours, the boxes near in shape and different in colour. Database: "
+       << o.views << " noiseless render_views() per known object (" << sets[0].db.views.size()
+       << " views). ";
+  } else {
+    md << "The object-varied set (`--set objects`, include/proxseg/eval/object_set.hpp): a pool "
+          "of objects in two halves A and B; per half, object folds of "
+       << o.fold_known << " known and " << o.fold_unknown
+       << " unknown objects such that every object is unknown in one fold; per fold "
+       << o.fold_scenes << " dev and " << o.fold_scenes << " report scenes. Databases: " << o.views
+       << " views per known object captured unlike the scenes (captured_database(): 0.45 m, "
+          "Kinect noise, a light beside the camera, another white balance). A rule chosen on "
+          "half A is scored on half B and the other way round. Folds:";
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      std::string unknown_names;
+      for (std::size_t i = 0; i < sets[k].catalogue.entries.size(); ++i)
+        if (!sets[k].catalogue.known[i])
+          unknown_names += (unknown_names.empty() ? "" : ", ") + sets[k].catalogue.entries[i].name;
+      md << (k ? ";" : "") << " " << sets[k].name << " unknown: " << unknown_names;
+    }
+    md << ". ";
+  }
+  md << "proxseg: segment() with "
      << (o.config.empty() ? "default parameters" : "the config's parameters")
      << " + recognize_scene() (min score " << fmt(rp.min_score, 2) << ", min margin "
      << fmt(rp.min_margin, 2) << " unless the score reaches " << fmt(rp.confident_score, 2)
@@ -415,8 +522,8 @@ int run(const Options& o) {
         "candidates, each described like proxseg's (with its colours) and aligned to every view "
         "by Open3D RANSAC "
      << o.peer_ransac / 1000
-     << "k + ICP (rec_bench's peer, 100k there; fewer here, as every cluster meets all 96 "
-        "views); its poses are scored and the candidate named exactly as proxseg names (same "
+     << "k + ICP (rec_bench's peer, 100k there; fewer here, as every cluster meets every "
+        "view); its poses are scored and the candidate named exactly as proxseg names (same "
         "score, same min score, margin and confident score).\n\n"
      << "Measures (docs/metrics.md, \"Scenes\"): truth objects and predictions are matched by "
         "the assignment of largest total point IoU among pairs with IoU >= 0.5; detection = "
@@ -432,19 +539,27 @@ int run(const Options& o) {
           "recall | F1 | unknown named (%) | pose ok (%) | s / scene |\n"
        << "|---|---|---|---|---|---|---|---|---|---|\n";
   };
-  for (std::size_t si = 0; si < splits.size(); ++si) {
-    md << "### Split " << splits[si].name << " (seeds " << seeds_text(splits[si].seeds) << ")\n\n";
+  const auto row = [&](const std::string& label, const SceneCounts& c) {
+    md << "| " << label << " | " << c.scenes << " | " << c.truths << " (" << c.known << " / "
+       << c.unknown << ") | " << pct(c.detection()) << " | " << fmt(c.precision(), 3) << " | "
+       << fmt(c.recall(), 3) << " | " << fmt(c.f1(), 3) << " | " << pct(c.unknown_named_share())
+       << " (" << c.unknown_named << ") | " << pct(c.pose_rate()) << " | "
+       << fmt(c.seconds_per_scene(), 1) << " |\n";
+  };
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    std::vector<std::uint32_t> seeds;
+    for (const Split& sp : splits)
+      if (sp.group == groups[gi]) seeds.insert(seeds.end(), sp.seeds.begin(), sp.seeds.end());
+    md << "### Split " << groups[gi];
+    if (o.set == "lmo") md << " (seeds " << seeds_text(seeds) << ")";
+    md << "\n\n";
     table_header();
-    nlohmann::json js = {{"name", splits[si].name}, {"seeds", splits[si].seeds}};
+    nlohmann::json js = {{"name", groups[gi]}, {"seeds", seeds}};
     js["methods"] = nlohmann::json::array();
     for (std::size_t mi = 0; mi < methods.size(); ++mi) {
-      const Result& r = results[si][mi];
+      const Result& r = grouped[gi][mi];
       const SceneCounts& c = r.counts;
-      md << "| " << methods[mi].label << " | " << c.scenes << " | " << c.truths << " (" << c.known
-         << " / " << c.unknown << ") | " << pct(c.detection()) << " | " << fmt(c.precision(), 3)
-         << " | " << fmt(c.recall(), 3) << " | " << fmt(c.f1(), 3) << " | "
-         << pct(c.unknown_named_share()) << " (" << c.unknown_named << ") | " << pct(c.pose_rate())
-         << " | " << fmt(c.seconds_per_scene(), 1) << " |\n";
+      row(methods[mi].label, c);
       nlohmann::json jm = {{"label", methods[mi].label}, {"counts", counts_json(c)}};
       jm["curve"] = nlohmann::json::array();
       for (const SceneCurvePoint& p :
@@ -461,6 +576,20 @@ int run(const Options& o) {
     md << "\n";
     summary["splits"].push_back(js);
   }
+  if (o.set != "lmo") {
+    md << "### Per fold\n\n";
+    table_header();
+    summary["folds"] = nlohmann::json::array();
+    for (std::size_t si = 0; si < splits.size(); ++si)
+      for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+        row(methods[mi].label + ", " + splits[si].name, results[si][mi].counts);
+        summary["folds"].push_back({{"split", splits[si].name},
+                                    {"label", methods[mi].label},
+                                    {"seeds", splits[si].seeds},
+                                    {"counts", counts_json(results[si][mi].counts)}});
+      }
+    md << "\n";
+  }
 
   md << "### ROC with negatives\n\nThe same answers re-thresholded: a prediction is named after "
         "its best view when the score reaches the minimum (and leads the runner-up by min_margin "
@@ -471,44 +600,51 @@ int run(const Options& o) {
      << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
      << "|---|---|---|---|---|---|---|\n";
   for (std::size_t mi = 0; mi < methods.size(); ++mi)
-    for (std::size_t si = 0; si < splits.size(); ++si) {
-      const Result& r = results[si][mi];
+    for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+      const Result& r = grouped[gi][mi];
       for (double t : thresholds) {
         const SceneCurvePoint p =
             proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, margin, confident);
-        md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(t, 2) << " | "
+        md << "| " << methods[mi].label << " | " << groups[gi] << " | " << fmt(t, 2) << " | "
            << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | " << fmt(p.precision, 3)
            << " | " << fmt(p.f1, 3) << " |\n";
       }
     }
   md << "\n";
 
-  // The minimum score of best F1 with at most 10 % of the unknowns named, chosen on the first
-  // split and applied to the others.
-  md << "### Minimum score chosen on " << splits.front().name
-     << "\n\nThe minimum score of largest F1 on " << splits.front().name
-     << " with at most 10 % of the unknown objects named"
-     << (splits.size() > 1 ? ", then applied to the other split" : "") << ".\n\n"
-     << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
-     << "|---|---|---|---|---|---|---|\n";
+  // The minimum score of best F1 with at most 10 % of the unknowns named, chosen on each dev
+  // group (the first group when none is called dev) and applied to the others.
+  std::vector<std::size_t> choosers;
+  for (std::size_t gi = 0; gi < groups.size(); ++gi)
+    if (groups[gi].size() >= 3 && groups[gi].compare(groups[gi].size() - 3, 3, "dev") == 0)
+      choosers.push_back(gi);
+  if (choosers.empty()) choosers.push_back(0);
   summary["chosen_threshold"] = nlohmann::json::array();
-  for (std::size_t mi = 0; mi < methods.size(); ++mi) {
-    const Result& d = results[0][mi];
-    const SceneCurvePoint best = proxseg::best_threshold(
-        proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin, confident), 0.1);
-    nlohmann::json jc = {{"label", methods[mi].label}, {"min_score", best.min_score}};
-    for (std::size_t si = 0; si < splits.size(); ++si) {
-      const Result& r = results[si][mi];
-      const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown,
-                                                     best.min_score, margin, confident);
-      md << "| " << methods[mi].label << " | " << splits[si].name << " | " << fmt(best.min_score, 3)
-         << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
-         << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";
-      jc[splits[si].name] = point_json(p);
+  for (std::size_t ci : choosers) {
+    md << "### Minimum score chosen on " << groups[ci] << "\n\nThe minimum score of largest F1 on "
+       << groups[ci] << " with at most 10 % of the unknown objects named"
+       << (groups.size() > 1 ? ", then applied to the other splits" : "") << ".\n\n"
+       << "| method | split | min score | TPR | unknown named (%) | precision | F1 |\n"
+       << "|---|---|---|---|---|---|---|\n";
+    for (std::size_t mi = 0; mi < methods.size(); ++mi) {
+      const Result& d = grouped[ci][mi];
+      const SceneCurvePoint best = proxseg::best_threshold(
+          proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin, confident), 0.1);
+      nlohmann::json jc = {
+          {"label", methods[mi].label}, {"chosen_on", groups[ci]}, {"min_score", best.min_score}};
+      for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+        const Result& r = grouped[gi][mi];
+        const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown,
+                                                       best.min_score, margin, confident);
+        md << "| " << methods[mi].label << " | " << groups[gi] << " | " << fmt(best.min_score, 3)
+           << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
+           << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";
+        jc[groups[gi]] = point_json(p);
+      }
+      summary["chosen_threshold"].push_back(jc);
     }
-    summary["chosen_threshold"].push_back(jc);
+    md << "\n";
   }
-  md << "\n";
 
   // Where it fails, over every split: counts per truth name (and answer).
   md << "### Where it fails (all splits)\n\n"
@@ -617,6 +753,25 @@ int main(int argc, char** argv) {
                  "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults (as "
                  "proxseg recognize --config)");
   app.add_option("--peers", o.peers, "all (PCL Euclidean + Open3D) or none")->capture_default_str();
+  app.add_option("--set", o.set,
+                 "lmo (the LINEMOD catalogue, dev and report seeds) or objects (the object-varied "
+                 "set: object folds in halves A and B, docs/method.md)")
+      ->capture_default_str();
+  app.add_option("--ycbv", o.ycbv, "--set objects: the YCB-Video folder (models/, classes.txt)")
+      ->capture_default_str();
+  app.add_option("--textured", o.textured,
+                 "--set objects: the folder of textured meshes (<name>/*.obj)")
+      ->capture_default_str();
+  app.add_option("--fold-scenes", o.fold_scenes,
+                 "--set objects: dev and report scenes per object fold")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--fold-known", o.fold_known, "--set objects: known objects per fold")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--fold-unknown", o.fold_unknown, "--set objects: unknown objects per fold")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   app.add_option("--peer-ransac", o.peer_ransac, "Open3D RANSAC iterations of the peer per view")
       ->check(CLI::Range(1000, 10000000))
       ->capture_default_str();

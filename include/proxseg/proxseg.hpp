@@ -19,6 +19,7 @@
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/metrics.hpp>
 #include <proxseg/eval/rec_eval.hpp>
+#include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/database.hpp>

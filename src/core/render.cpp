@@ -99,6 +99,30 @@ Mesh make_cylinder(const Eigen::Isometry3d& pose, double radius, double height,
   return m;
 }
 
+Mesh make_lathe(const Eigen::Isometry3d& pose, const std::vector<Eigen::Vector2d>& profile,
+                const ColourFn& colour, double cell) {
+  if (profile.size() < 2) throw std::invalid_argument("make_lathe: the profile needs 2 points");
+  // The profile resampled into pieces of about `cell`, so that rings are as dense as the
+  // other builders' grids.
+  std::vector<Eigen::Vector2d> rz = {profile[0]};
+  double widest = 0;
+  for (std::size_t i = 1; i < profile.size(); ++i) {
+    if (profile[i].x() < 0) throw std::invalid_argument("make_lathe: radius must be >= 0");
+    const int n = cells((profile[i] - profile[i - 1]).norm(), cell);
+    for (int k = 1; k <= n; ++k)
+      rz.push_back(profile[i - 1] + (profile[i] - profile[i - 1]) * k / n);
+    widest = std::max(widest, profile[i].x());
+  }
+  Mesh m;
+  const int around = std::max(8, cells(2 * kPi * widest, cell));
+  const int segments = static_cast<int>(rz.size()) - 1;
+  add_patch(m, pose, colour, around, segments, [&](double u, double v) {
+    const Eigen::Vector2d& q = rz[static_cast<std::size_t>(std::lround(v * segments))];
+    return Eigen::Vector3d(q.x() * std::cos(turn(u)), q.x() * std::sin(turn(u)), q.y());
+  });
+  return m;
+}
+
 Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
   const Camera& cam = params.camera;
   if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0) || !(cam.fy > 0))
@@ -331,6 +355,7 @@ std::vector<RenderedView> render_views(const Mesh& mesh, const ViewSphereParams&
     RenderParams rp;
     rp.camera = params.camera;
     rp.depth_noise = params.depth_noise;
+    rp.disparity_step = params.disparity_step;
     rp.seed = params.seed + static_cast<std::uint32_t>(i);
     const Eigen::Vector3d eye = centre + distance * dirs[i];
     rp.camera_from_world = look_at(eye, centre);

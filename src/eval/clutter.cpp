@@ -18,6 +18,7 @@
 #include <string>
 
 #include "util/splitmix.hpp"
+#include "util/value_noise.hpp"
 
 namespace proxseg {
 
@@ -77,36 +78,6 @@ struct Rng {
 // Independent sub-stream k of a seed.
 Rng stream(std::uint32_t seed, std::uint64_t k) {
   return Rng{SplitMix{mix64(mix64(seed + 0x632be59bd9b4e019ull) ^ (k * 0x9e3779b97f4a7c15ull))}};
-}
-
-// ---------------------------------------------------------------------------------------------
-// Value noise (seeded by salt) for wood grain, blotches and subtle shade variation.
-
-double lattice(std::int64_t x, std::int64_t y, std::int64_t z, std::uint64_t salt) {
-  const std::uint64_t h = mix64(salt ^ (static_cast<std::uint64_t>(x) * 0x9e3779b97f4a7c15ull) ^
-                                (static_cast<std::uint64_t>(y) * 0xc2b2ae3d27d4eb4full) ^
-                                (static_cast<std::uint64_t>(z) * 0x165667b19e3779f9ull));
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
-}
-
-double smooth(double t) {
-  return t * t * (3 - 2 * t);
-}
-
-// In [0, 1], lattice spacing 1.
-double vnoise(const Vec3& p, std::uint64_t salt) {
-  const Vec3 f(std::floor(p.x()), std::floor(p.y()), std::floor(p.z()));
-  const auto x = static_cast<std::int64_t>(f.x()), y = static_cast<std::int64_t>(f.y()),
-             z = static_cast<std::int64_t>(f.z());
-  const double tx = smooth(p.x() - f.x()), ty = smooth(p.y() - f.y()), tz = smooth(p.z() - f.z());
-  double out = 0;
-  for (int c = 0; c < 8; ++c) {
-    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-    const double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
-    if (w == 0) continue;  // e.g. the plane z = 0: 2D noise at half the cost
-    out += w * lattice(x + dx, y + dy, z + dz, salt);
-  }
-  return out;
 }
 
 // Three octaves, in [0, 1]; scale = lattice spacing of the first octave (metres).
@@ -347,7 +318,7 @@ struct Label {
     const double length = 2 * (rows_along_u ? hu : hv);
     const double row = std::floor(across / pitch);
     const double row_len =
-        length * (0.35 + 0.55 * lattice(static_cast<std::int64_t>(row), 0, 0, salt));
+        length * (0.35 + 0.55 * noise_lattice(static_cast<std::int64_t>(row), 0, 0, salt));
     const bool text = row >= 1 && frac(across / pitch) * pitch < thick && along > 0.1 * length &&
                       along < 0.1 * length + row_len * 0.85;
     out = text ? ink : paper;
@@ -480,10 +451,10 @@ TableFn table_texture(Rng& r, const std::string& kind) {
       const double row = std::floor(q.y() / plank), v = q.y() - row * plank;
       const auto ri = static_cast<std::int64_t>(row);
       // Each plank: its own ring axis (offset across, depth below the surface), shift, tint.
-      const double axis = plank * (lattice(ri, 1, 0, salt) * 1.6 - 0.3);
-      const double depth = 0.01 + 0.08 * lattice(ri, 2, 0, salt);
-      const double tint = 1 + 0.12 * (lattice(ri, 3, 0, salt) - 0.5);
-      const double shift = 3 * lattice(ri, 4, 0, salt);
+      const double axis = plank * (noise_lattice(ri, 1, 0, salt) * 1.6 - 0.3);
+      const double depth = 0.01 + 0.08 * noise_lattice(ri, 2, 0, salt);
+      const double tint = 1 + 0.12 * (noise_lattice(ri, 3, 0, salt) - 0.5);
+      const double shift = 3 * noise_lattice(ri, 4, 0, salt);
       const Vec3 s(q.x() + shift, v + row * 7.3, 0);
       const double wobble = 0.02 * (fbm(Vec3(s.x() * 0.15, s.y(), 0), 0.05, salt + 5) - 0.5);
       const double rr = std::hypot(v - axis + wobble, depth);
@@ -667,36 +638,6 @@ struct Placed {
            rest.rest_from_object;
   }
 };
-
-// Lambertian shading baked into the colours; normals from the triangles (area-weighted).
-void shade(Mesh& m, const Vec3& light, double ambient, double exposure, const Vec3* centre) {
-  std::vector<Vec3> n(m.vertices.size(), Vec3::Zero());
-  double orientation = 0;
-  Vec3 mean = Vec3::Zero();
-  for (const auto& v : m.vertices) mean += v.cast<double>();
-  mean /= std::max<double>(1, static_cast<double>(m.vertices.size()));
-  for (const auto& t : m.triangles) {
-    const Vec3 a = m.vertices[t[0]].cast<double>(), b = m.vertices[t[1]].cast<double>(),
-               c = m.vertices[t[2]].cast<double>();
-    const Vec3 f = (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) n[t[k]] += f;
-    orientation += f.dot((a + b + c) / 3 - mean);
-  }
-  const double flip = orientation < 0 ? -1 : 1;  // meshes wound inwards
-  for (std::size_t i = 0; i < n.size(); ++i) {
-    Vec3 normal = n[i] * flip;
-    const Vec3 v = m.vertices[i].cast<double>();
-    if (centre) {
-      if (normal.squaredNorm() == 0) normal = v - *centre;
-      if (normal.dot(v - *centre) < 0) normal = -normal;
-    }
-    const double len = normal.norm();
-    const double lambert = len > 0 ? std::max(0.0, normal.dot(light) / len) : 0.5;
-    const double b = exposure * (ambient + (1 - ambient) * lambert);
-    const Rgb c = m.colours[i];
-    m.colours[i] = to_rgb8(Col(c[0], c[1], c[2]) * b);
-  }
-}
 
 void check_params(const ClutterParams& p) {
   auto bad = [](const std::string& what) { throw std::invalid_argument("clutter: " + what); };
@@ -1279,6 +1220,35 @@ bool Layout::run(ClutterScene& out) {
 }
 
 }  // namespace
+
+void shade(Mesh& m, const Vec3& light, double ambient, double exposure, const Vec3* centre) {
+  std::vector<Vec3> n(m.vertices.size(), Vec3::Zero());
+  double orientation = 0;
+  Vec3 mean = Vec3::Zero();
+  for (const auto& v : m.vertices) mean += v.cast<double>();
+  mean /= std::max<double>(1, static_cast<double>(m.vertices.size()));
+  for (const auto& t : m.triangles) {
+    const Vec3 a = m.vertices[t[0]].cast<double>(), b = m.vertices[t[1]].cast<double>(),
+               c = m.vertices[t[2]].cast<double>();
+    const Vec3 f = (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) n[t[k]] += f;
+    orientation += f.dot((a + b + c) / 3 - mean);
+  }
+  const double flip = orientation < 0 ? -1 : 1;  // meshes wound inwards
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    Vec3 normal = n[i] * flip;
+    const Vec3 v = m.vertices[i].cast<double>();
+    if (centre) {
+      if (normal.squaredNorm() == 0) normal = v - *centre;
+      if (normal.dot(v - *centre) < 0) normal = -normal;
+    }
+    const double len = normal.norm();
+    const double lambert = len > 0 ? std::max(0.0, normal.dot(light) / len) : 0.5;
+    const double b = exposure * (ambient + (1 - ambient) * lambert);
+    const Rgb c = m.colours[i];
+    m.colours[i] = to_rgb8(Col(c[0], c[1], c[2]) * b);
+  }
+}
 
 ClutterScene clutter_layout_scene(const ClutterParams& params) {
   check_params(params);

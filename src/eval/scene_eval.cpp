@@ -1,6 +1,7 @@
 // End-to-end scene recognition evaluation: the catalogue, the scene set and the scoring
 // (scene_eval.hpp).
 #include <proxseg/core/colour.hpp>
+#include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -17,29 +18,9 @@ namespace proxseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kCell = 0.004;  // primitives' tessellation: the generator's (4 mm)
 
 using Col = Eigen::Vector3d;  // 0..255 per channel
-
-// The mesh with every colour's hue turned so that the mesh's dominant hue (circular mean,
-// weighted by saturation x value: greys have no say) becomes `hue`; saturation and value kept,
-// so that shading and texture stay and only the colour differs.
-Mesh hue_turned(Mesh m, double hue) {
-  double sx = 0, sy = 0;
-  for (const Rgb& c : m.colours) {
-    const Eigen::Vector3d hsv = rgb_to_hsv(c);
-    sx += hsv[1] * hsv[2] * std::cos(2 * kPi * hsv[0]);
-    sy += hsv[1] * hsv[2] * std::sin(2 * kPi * hsv[0]);
-  }
-  const double mean = std::atan2(sy, sx) / (2 * kPi);
-  for (Rgb& c : m.colours) {
-    Eigen::Vector3d hsv = rgb_to_hsv(c);
-    hsv[0] += hue - mean;
-    c = to_rgb8(hsv_to_rgb(hsv));
-  }
-  return m;
-}
 
 // A marker (cylinder along z, cap end at +z): body colour with a light printed band around it
 // and a ring at the cap's edge, so that it is not one flat colour.
@@ -143,10 +124,18 @@ SceneCatalogue scene_catalogue(const std::string& models_dir) {
   c.entries.push_back(
       entry("box-rice", ClutterKind::box,
             make_box(I, rice, box_colours({225, 190, 40}, {110, 70, 35}, rice), kCell), true));
-  c.known.assign(c.entries.size(), 1);
+  std::vector<char> known(c.entries.size(), 1);
   // Unknown: never in the database.
   c.entries.push_back(entry("glue", ClutterKind::mesh, linemod("obj_000011"), false));
   c.entries.push_back(entry("holepuncher", ClutterKind::mesh, linemod("obj_000012"), false));
+  known.resize(c.entries.size(), 0);
+  return make_catalogue(std::move(c.entries), std::move(known));
+}
+
+SceneCatalogue make_catalogue(std::vector<CatalogueObject> entries, std::vector<char> known) {
+  SceneCatalogue c;
+  c.entries = std::move(entries);
+  c.known = std::move(known);
   c.known.resize(c.entries.size(), 0);
   for (const CatalogueObject& e : c.entries) {
     std::vector<Eigen::Vector3d> pts;

@@ -46,6 +46,13 @@ Mesh make_box(const Eigen::Isometry3d& pose, const Eigen::Vector3d& size, const 
 Mesh make_cylinder(const Eigen::Isometry3d& pose, double radius, double height,
                    const ColourFn& colour, double cell = 0.005);
 
+// A closed surface of revolution about the local z axis: the profile (radius >= 0, z) is swept
+// around, each profile point a ring of vertices. Cups, bowls, fruit, pens and bottles. Every
+// profile segment is cut into roughly `cell`-long pieces; a profile that starts and ends on the
+// axis (radius 0) gives a closed surface, wound consistently along the profile's direction.
+Mesh make_lathe(const Eigen::Isometry3d& pose, const std::vector<Eigen::Vector2d>& profile,
+                const ColourFn& colour, double cell = 0.005);
+
 // Partial views of one mesh for a model database [3.4, Fig. 2 right]: the virtual camera is put
 // on a sphere around the mesh's bounding-box centre, looking at it, and the visible surface is
 // kept (z-buffer), with the mesh's vertex colours and optional depth noise.
@@ -53,8 +60,9 @@ struct ViewSphereParams {
   int views = 8;
   double distance = 0;  // camera to centre, metres; 0 = max(0.6, 3 x the mesh's diameter)
   Camera camera;
-  double depth_noise = 0;  // as RenderParams::depth_noise
-  std::uint32_t seed = 1;  // view i uses seed + i
+  double depth_noise = 0;     // as RenderParams::depth_noise
+  double disparity_step = 0;  // as RenderParams::disparity_step
+  std::uint32_t seed = 1;     // view i uses seed + i
 };
 struct RenderedView {
   Frame points;         // valid points only, in the mesh's frame (unorganized)

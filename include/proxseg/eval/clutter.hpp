@@ -156,6 +156,13 @@ struct ClutterScene {
   int layout = 0;  // the sub-stream that gave a valid layout (0 = the first draw)
 };
 
+// Lambertian shading baked into a mesh's colours: brightness = exposure x (ambient + (1 -
+// ambient) max(0, n.light)), light a unit direction. Normals from the triangles (area-weighted),
+// turned outwards as a whole when the mesh is wound inwards; with centre (boxes, cylinders),
+// each turned away from it.
+void shade(Mesh& m, const Eigen::Vector3d& light, double ambient, double exposure,
+           const Eigen::Vector3d* centre = nullptr);
+
 // Draws and renders one scene; throws InputError for a bad models_dir, std::invalid_argument for
 // inconsistent params, std::runtime_error if no valid layout is found in max_layouts draws.
 ClutterScene clutter_layout_scene(const ClutterParams& params);

@@ -36,6 +36,9 @@ struct SceneCatalogue {
 // Unknown (never in the database): the LINEMOD glue and holepuncher (obj_000011, 12).
 // Throws InputError when models_dir lacks one of the meshes.
 SceneCatalogue scene_catalogue(const std::string& models_dir);
+// A catalogue of these entries, `known` per entry (1 = in the database), with the model points
+// and diameters the scoring needs.
+SceneCatalogue make_catalogue(std::vector<CatalogueObject> entries, std::vector<char> known);
 // Index of the entry called name, -1 when there is none.
 int catalogue_index(const SceneCatalogue& catalogue, const std::string& name);
 
