@@ -32,8 +32,9 @@ TEST(SceneBench, TwoScenesWithThePeerWriteEveryOutput) {
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json s = nlohmann::json::parse(r.out);
   EXPECT_EQ(s, nlohmann::json::parse(slurp(o / "scenes.json")));
-  EXPECT_EQ(s["parameters"]["database_views"], 12);  // 12 known objects x 1 view
-  EXPECT_EQ(s["parameters"]["catalogue"].size(), 14u);
+  ASSERT_EQ(s["parameters"]["sets"].size(), 1u);
+  EXPECT_EQ(s["parameters"]["sets"][0]["views"], 12);  // 12 known objects x 1 view
+  EXPECT_EQ(s["parameters"]["sets"][0]["entries"].size(), 14u);
   ASSERT_EQ(s["splits"].size(), 1u);
   const nlohmann::json& split = s["splits"][0];
   EXPECT_EQ(split["name"], "scenes");

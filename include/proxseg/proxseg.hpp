@@ -13,6 +13,7 @@
 #include <proxseg/core/registration.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/core/selection.hpp>
+#include <proxseg/core/visibility.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/core/voxels.hpp>
 #include <proxseg/eval/clutter.hpp>

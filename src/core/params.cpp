@@ -153,6 +153,8 @@ void validate(const RecognitionParams& p) {
   require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");
   require(p.merge_distance >= 0 && p.merge_distance <= 1, "merge_distance", "0 (off) .. 1 metre");
   require(p.min_part_points >= 1, "min_part_points", ">= 1");
+  require(p.free_space_tolerance >= 0 && std::isfinite(p.free_space_tolerance),
+          "free_space_tolerance", ">= 0 metres (0 = off)");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
 }
 

@@ -27,14 +27,15 @@ constexpr int kBatch = 8;  // views per early-exit check; fixed, so answers do n
 }  // namespace
 
 double score_of(const Alignment& a, Score score) {
+  const double seen = 1 - a.free_space;
   switch (score) {
     case Score::kFitness:
       return a.fitness;
     case Score::kSymmetric:
-      return symmetric_overlap(a.close_fitness, a.coverage);
+      return symmetric_overlap(a.close_fitness, a.coverage) * seen;
     case Score::kColour:
       return symmetric_overlap(a.close_fitness, a.coverage) *
-             (a.coloured ? a.colour : kColourlessAgreement);
+             (a.coloured ? a.colour : kColourlessAgreement) * seen;
   }
   return 0;
 }
@@ -74,7 +75,7 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
 }
 
 Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
-                      const std::vector<std::string>& objects) {
+                      const std::vector<std::string>& objects, const DepthImage* scene) {
   Recognition r;
   const int n = static_cast<int>(db.views.size());
   r.alignments.assign(n, Alignment{});
@@ -91,6 +92,9 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
       const int v = views[k];
       r.alignments[v] = align(candidate, sample, db.views[v].cloud, params.registration,
                               mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
+      if (scene && params.free_space_tolerance > 0)
+        r.alignments[v].free_space = free_space_violation(
+            *scene, db.views[v].cloud, r.alignments[v].pose, params.free_space_tolerance);
       done[v] = 1;
     }
     r.views_aligned = end;
@@ -105,8 +109,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   // Algorithm 3: the best view names the candidate; ties go to the earlier view.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
-    return Match{db.views[v].object,        v,      a.pose,  a.fitness, a.coverage,
-                 score_of(a, params.score), a.rmse, a.colour};
+    return Match{db.views[v].object,        v,      a.pose,   a.fitness,   a.coverage,
+                 score_of(a, params.score), a.rmse, a.colour, a.free_space};
   };
   for (int v = 0; v < n; ++v) {
     if (!done[v]) continue;
@@ -217,6 +221,7 @@ struct PieceRecogniser {
   const Database& db;
   const RecognitionParams& params;
   const std::function<void(const SceneObject&)>& progress;
+  const DepthImage* scene;  // the frame's depths for the free-space check, or null
 
   bool operator()(SceneObject o, Piece& out, const std::vector<std::string>& objects = {},
                   Cloud* described = nullptr) const {
@@ -232,7 +237,7 @@ struct PieceRecogniser {
     const double describe_ms = describe_watch.ms();
     RecognitionParams p = params;
     if (!objects.empty()) p.shortlist = params.trial_shortlist;
-    o.recognition = recognize(out.cloud, db, p, objects);
+    o.recognition = recognize(out.cloud, db, p, objects, scene);
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);
     out.box.setEmpty();
@@ -371,7 +376,8 @@ std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser
 std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& selection,
                                          const Database& db, const RecognitionParams& params,
                                          const std::function<void(const SceneObject&)>& progress) {
-  const PieceRecogniser recognise{frame, db, params, progress};
+  const DepthImage depths = params.free_space_tolerance > 0 ? depth_image(frame) : DepthImage{};
+  const PieceRecogniser recognise{frame, db, params, progress, depths.empty() ? nullptr : &depths};
   std::vector<Piece> pieces = recognise_candidates(selection, recognise);
   if (params.split_fitness > 0) pieces = split_pieces(std::move(pieces), recognise);
   if (params.merge_distance > 0) pieces = merge_pieces(std::move(pieces), recognise);

@@ -271,6 +271,24 @@ bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance
          (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm() < distance;
 }
 
+// fitness() within delta, and in `colour` the mean chromaticity agreement of the explained
+// candidate points with the view points that explain them.
+double explained_colour(const Cloud& cand, const Cloud& view, const Eigen::Matrix4d& pose,
+                        double delta, double& colour) {
+  const Eigen::Matrix4d inv = pose.inverse();
+  int n = 0;
+  double sum = 0;
+  for (std::size_t i = 0; i < cand.size(); ++i) {
+    double d2 = 0;
+    const int j = nearest(view.index->points, apply(inv, cand.points[i]), delta, d2);
+    if (j < 0 || d2 > delta * delta) continue;
+    ++n;
+    sum += chromaticity_agreement(cand.colours[i], view.colours[j]);
+  }
+  colour = n ? sum / n : 0;
+  return cand.size() ? double(n) / cand.size() : 0;
+}
+
 // Judges hypotheses like the recognition score, best first: the share of the candidate the view
 // explains and the share of the visible view the candidate explains (a box turned by 90 degrees
 // can explain the candidate as well as the right pose, but not be explained by it). Only the best
@@ -279,10 +297,12 @@ bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance
 // overlap -1 and sort last, in their order.
 void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
            const RegistrationParams& p) {
-  std::vector<double> fit(top.size());
+  std::vector<double> fit(top.size()), agree(top.size(), 1.0);
+  const bool coloured = p.colour_alignment && !cand.colours.empty() && !view.colours.empty();
   for (std::size_t k = 0; k < top.size(); ++k) {
     top[k].overlap = -1;
-    fit[k] = fitness(cand, view, top[k].pose, p.ransac_distance);
+    fit[k] = coloured ? explained_colour(cand, view, top[k].pose, p.ransac_distance, agree[k])
+                      : fitness(cand, view, top[k].pose, p.ransac_distance);
   }
   std::vector<std::size_t> order(top.size());
   std::iota(order.begin(), order.end(), 0);
@@ -293,7 +313,7 @@ void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
   for (std::size_t k : order) {
     if (best.size() == kept && std::sqrt(fit[k]) < best.back()) break;
     top[k].overlap =
-        symmetric_overlap(fit[k], coverage(cand, view, top[k].pose, p.ransac_distance));
+        symmetric_overlap(fit[k], coverage(cand, view, top[k].pose, p.ransac_distance)) * agree[k];
     best.insert(std::upper_bound(best.begin(), best.end(), top[k].overlap, std::greater<>()),
                 top[k].overlap);
     if (best.size() > kept) best.pop_back();
@@ -721,10 +741,18 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   for (int k = 0; k < starts; ++k) {
     int iterations = 0;
     const Eigen::Matrix4d pose = icp(candidate, view, top[k].pose, params, iterations);
-    const double score =
+    double agree = 1;
+    const bool coloured =
+        params.colour_alignment && !candidate.colours.empty() && !view.colours.empty();
+    const double explained =
         starts == 1 ? 0
-                    : symmetric_overlap(fitness(candidate, view, pose, params.score_distance),
-                                        coverage(candidate, view, pose, params.score_distance));
+        : coloured  ? explained_colour(candidate, view, pose, params.score_distance, agree)
+                    : fitness(candidate, view, pose, params.score_distance);
+    const double score =
+        starts == 1
+            ? 0
+            : symmetric_overlap(explained, coverage(candidate, view, pose, params.score_distance)) *
+                  agree;
     if (score > best) {
       best = score;
       a.pose = pose;
@@ -756,6 +784,7 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
   a.coloured = !candidate.colours.empty() && !view.colours.empty();
   int within_fitness = 0, within_score = 0;
   double sum_d2 = 0, sum_colour = 0;
+  std::vector<Rgb> explained_colours;
   for (std::size_t i = 0; i < candidate.size(); ++i) {
     double d2 = 0;
     const int j = nearest(view.index->points, apply(inv, candidate.points[i]), reach, d2);
@@ -766,7 +795,10 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
     }
     if (d2 <= sd2) {
       ++within_score;
-      if (a.coloured) sum_colour += chromaticity_agreement(candidate.colours[i], view.colours[j]);
+      if (a.coloured) {
+        sum_colour += chromaticity_agreement(candidate.colours[i], view.colours[j]);
+        explained_colours.push_back(candidate.colours[i]);
+      }
     }
   }
   const double n = static_cast<double>(candidate.size());
@@ -774,8 +806,68 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
   a.rmse = within_fitness ? std::sqrt(sum_d2 / within_fitness) : 0;
   a.close_fitness = n > 0 ? within_score / n : 0;
   a.colour = !a.coloured ? 1 : within_score ? sum_colour / within_score : 0;
+  if (a.coloured && params.colour_compare != ColourCompare::kPoints) {
+    // The view's side: its points that the candidate explains, within reach of a candidate point.
+    std::vector<Rgb> shown;
+    for (std::size_t j = 0; j < view.size(); ++j) {
+      double d2 = 0;
+      if (nearest(candidate.index->points, apply(pose, view.points[j]), params.score_distance,
+                  d2) >= 0 &&
+          d2 <= sd2)
+        shown.push_back(view.colours[j]);
+    }
+    const double h = chromaticity_histogram_agreement(explained_colours, shown);
+    a.colour = params.colour_compare == ColourCompare::kHistogram ? h : std::max(a.colour, h);
+  }
   a.coverage = coverage(candidate, view, pose, params.score_distance);
   return a;
+}
+
+double chromaticity_histogram_agreement(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {
+  if (a.empty() || b.empty()) return 0;
+  // 20 x 20 cells over the (r, g) chromaticity square; each colour a Gaussian of the width that
+  // chromaticity_agreement() gives a pair of such colours, cut at 3 sigma.
+  constexpr int kCells = 20;
+  constexpr double kSigma0 = 0.05, kNoise = 6;
+  const auto histogram = [](const std::vector<Rgb>& colours) {
+    std::vector<double> h(kCells * kCells, 0.0);
+    for (const Rgb& c : colours) {
+      const Eigen::Vector3d v = Eigen::Vector3d(c[0], c[1], c[2]).array() + 1;
+      const double s = v.sum();
+      const double sigma = std::sqrt(kSigma0 * kSigma0 + 2 * (kNoise / s) * (kNoise / s));
+      const Eigen::Vector2d x(v.x() / s, v.y() / s);
+      const int lo_x = std::max(0, static_cast<int>(std::floor((x.x() - 3 * sigma) * kCells)));
+      const int hi_x =
+          std::min(kCells - 1, static_cast<int>(std::floor((x.x() + 3 * sigma) * kCells)));
+      const int lo_y = std::max(0, static_cast<int>(std::floor((x.y() - 3 * sigma) * kCells)));
+      const int hi_y =
+          std::min(kCells - 1, static_cast<int>(std::floor((x.y() + 3 * sigma) * kCells)));
+      std::vector<double> w;
+      double total = 0;
+      for (int cy = lo_y; cy <= hi_y; ++cy)
+        for (int cx = lo_x; cx <= hi_x; ++cx) {
+          const Eigen::Vector2d centre((cx + 0.5) / kCells, (cy + 0.5) / kCells);
+          const double g = std::exp(-0.5 * (centre - x).squaredNorm() / (sigma * sigma));
+          w.push_back(g);
+          total += g;
+        }
+      if (!(total > 0)) continue;
+      std::size_t k = 0;
+      for (int cy = lo_y; cy <= hi_y; ++cy)
+        for (int cx = lo_x; cx <= hi_x; ++cx) h[cy * kCells + cx] += w[k++] / total;
+    }
+    double sum = 0;
+    for (double x : h) sum += x;
+    if (sum > 0)
+      for (double& x : h) x /= sum;
+    return h;
+  };
+  const std::vector<double> ha = histogram(a), hb = histogram(b);
+  double bc = 0;
+  for (std::size_t k = 0; k < ha.size(); ++k) bc += std::sqrt(ha[k] * hb[k]);
+  // Two single colours d apart have a coefficient of exp(-d^2 / (8 sigma^2)); its 4th power is
+  // chromaticity_agreement()'s exp(-d^2 / (2 sigma^2)): both terms on one scale.
+  return std::pow(std::min(1.0, bc), 4);
 }
 
 double chromaticity_agreement(const Rgb& a, const Rgb& b) {

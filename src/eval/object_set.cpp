@@ -153,7 +153,7 @@ void add_generated(std::vector<PoolObject>& pool) {
   add("plum", ClutterKind::mesh,
       lathe(fruit_profile(0.026, 0.05), fruit_skin({90, 30, 70}, {60, 25, 60}, 0.015, 14)), false,
       "", 1);
-  // Thin objects, lying: two pens of one shape, a marker.
+  // Thin objects, lying: three pens of one shape, a marker.
   const double pen_l = 0.145, marker_l = 0.125;
   add("pen-blue", ClutterKind::cylinder,
       lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({30, 60, 170}, pen_l)), false, "pen", 1,
@@ -161,10 +161,13 @@ void add_generated(std::vector<PoolObject>& pool) {
   add("pen-red", ClutterKind::cylinder,
       lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({190, 30, 30}, pen_l)), false, "pen", 1,
       true);
+  add("pen-black", ClutterKind::cylinder,
+      lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({28, 28, 32}, pen_l)), false, "pen", 1,
+      true);
   add("marker-green", ClutterKind::cylinder,
       lathe(pen_profile(0.0095, marker_l, 0.015), pen_paint({40, 150, 60}, marker_l)), false, "", 0,
       true);
-  // Open vessels: two cups of one shape, a mug-sized beaker and two bowls.
+  // Open vessels: three cups of one shape (one black), a beaker and two bowls.
   add("cup-white", ClutterKind::mesh,
       lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
             vessel_paint({230, 230, 225}, {215, 215, 210}, 0.03, 0.04, 0.09, 0.004)),
@@ -172,6 +175,10 @@ void add_generated(std::vector<PoolObject>& pool) {
   add("cup-red", ClutterKind::mesh,
       lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
             vessel_paint({180, 35, 40}, {225, 220, 215}, 0.03, 0.04, 0.09, 0.004)),
+      false, "cup", 0);
+  add("mug-black", ClutterKind::mesh,
+      lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
+            vessel_paint({30, 30, 34}, {60, 60, 64}, 0.03, 0.04, 0.09, 0.004)),
       false, "cup", 0);
   add("beaker", ClutterKind::mesh,
       lathe(vessel_profile(0.035, 0.035, 0.11, 0.003),
@@ -185,7 +192,7 @@ void add_generated(std::vector<PoolObject>& pool) {
       lathe(vessel_profile(0.035, 0.075, 0.055, 0.004),
             vessel_paint({225, 190, 50}, {225, 225, 215}, 0.035, 0.075, 0.055, 0.004)),
       false, "bowl", 1);
-  // Boxes: one shape in two colours; one colour in two shapes; a flat one.
+  // Boxes: one shape in two colours; one colour in two shapes; a black one; a flat one.
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const Vec3 tall(0.07, 0.07, 0.15), slim(0.09, 0.05, 0.15), flat(0.12, 0.08, 0.035);
   add("box-blue", ClutterKind::box,
@@ -200,6 +207,9 @@ void add_generated(std::vector<PoolObject>& pool) {
   add("can-orange", ClutterKind::cylinder,
       make_cylinder(I, 0.033, 0.12, can_paint({230, 120, 30}, {60, 40, 30}, 0.12), kCell), true,
       "orange-things", 1);
+  const Vec3 long_box(0.16, 0.045, 0.06);
+  add("box-black", ClutterKind::box,
+      make_box(I, long_box, box_paint({35, 35, 38}, {90, 90, 95}, long_box), kCell), true, "", 1);
   add("box-flat", ClutterKind::box,
       make_box(I, flat, box_paint({200, 200, 60}, {150, 40, 120}, flat), kCell), true, "", 0);
 }

@@ -339,6 +339,7 @@ SceneCounts& SceneCounts::operator+=(const SceneCounts& o) {
   fn += o.fn;
   fp += o.fp;
   unknown_named += o.unknown_named;
+  known_unknown += o.known_unknown;
   pose_ok += o.pose_ok;
   seconds += o.seconds;
   return *this;
@@ -388,6 +389,7 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
     }
     if (p.name != t.name) {
       ++c.fn;
+      c.known_unknown += !is_named(p.name);
       continue;
     }
     ++c.tp;

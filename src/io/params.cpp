@@ -21,6 +21,11 @@ void to_json(nlohmann::json& j, SelectionParams::Geometry g) {
 void to_json(nlohmann::json& j, MultiRadius m) {
   j = m == MultiRadius::kConcatenate ? "concatenate" : "best_of";
 }
+void to_json(nlohmann::json& j, ColourCompare c) {
+  j = c == ColourCompare::kPoints      ? "points"
+      : c == ColourCompare::kHistogram ? "histogram"
+                                       : "best";
+}
 void to_json(nlohmann::json& j, Score s) {
   j = s == Score::kFitness ? "fitness" : s == Score::kSymmetric ? "symmetric" : "colour";
 }
@@ -107,6 +112,8 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "point_to_plane", p.registration.point_to_plane);
   f("registration", "fitness_distance", p.registration.fitness_distance);
   f("registration", "score_distance", p.registration.score_distance);
+  f("registration", "colour_compare", p.registration.colour_compare);
+  f("registration", "colour_alignment", p.registration.colour_alignment);
   f("", "score", p.score);
   f("", "min_score", p.min_score);
   f("", "min_margin", p.min_margin);
@@ -117,6 +124,7 @@ void recognition_fields(P& p, F&& f) {
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
   f("", "min_part_points", p.min_part_points);
+  f("", "free_space_tolerance", p.free_space_tolerance);
   f("", "seed", p.seed);
   f("", "threads", p.threads);
 }
@@ -152,6 +160,16 @@ void read_value(const std::string& name, const json& v, MultiRadius& out) {
     out = MultiRadius::kBestOf;
   else
     wrong_type(name, "\"concatenate\" or \"best_of\"", v);
+}
+void read_value(const std::string& name, const json& v, ColourCompare& out) {
+  if (v == "points")
+    out = ColourCompare::kPoints;
+  else if (v == "histogram")
+    out = ColourCompare::kHistogram;
+  else if (v == "best")
+    out = ColourCompare::kBest;
+  else
+    wrong_type(name, "\"points\", \"histogram\" or \"best\"", v);
 }
 void read_value(const std::string& name, const json& v, Score& out) {
   if (v == "fitness")

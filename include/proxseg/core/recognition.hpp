@@ -5,6 +5,7 @@
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/registration.hpp>
 #include <proxseg/core/selection.hpp>
+#include <proxseg/core/visibility.hpp>
 
 #include <cstdint>
 #include <functional>
@@ -63,6 +64,11 @@ struct RecognitionParams {
   // rim or a shadow). 0 = off.
   double merge_distance = 0.03;
   int min_part_points = 500;  // points of the frame
+  // Scenes [extension, docs/method.md "Recognition that generalises"]: a view put where the
+  // sensor saw through it is not the object. Scores are multiplied by 1 - the share of the
+  // posed view's sensor-facing points more than free_space_tolerance + 0.005 z^2 metres in front
+  // of the measured depth (free_space_violation()). Organized frames only; 0 = off.
+  double free_space_tolerance = 0;
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores; the answer does not depend on it
 };
@@ -75,7 +81,8 @@ struct Match {
   int view = -1;                                       // index into Database::views
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
   double fitness = 0, coverage = 0, score = 0, rmse = 0;
-  double colour = 1;  // Alignment::colour
+  double colour = 1;      // Alignment::colour
+  double free_space = 0;  // Alignment::free_space
 };
 
 struct Recognition {
@@ -102,8 +109,11 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
                                  const std::vector<std::string>& objects = {});
 // Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
+// With `scene` (the frame's depth image; recognize_scene() passes it when free_space_tolerance >
+// 0), every alignment is also checked against the sensor's free space.
 Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
-                      const std::vector<std::string>& objects = {});
+                      const std::vector<std::string>& objects = {},
+                      const DepthImage* scene = nullptr);
 
 // One recognised object: the frame points it holds, the selection instances they came from,
 // and its recognition.

@@ -27,6 +27,16 @@ enum class MultiRadius {
   kBestOf,       // one RANSAC per radius, the best of them goes on to ICP
 };
 
+// How the colour term compares the candidate's colours with the aligned view's [extension,
+// docs/method.md "Colour in recognition"].
+enum class ColourCompare {
+  kPoints,     // each explained candidate point with the view point that explains it
+  kHistogram,  // the chromaticity distributions of the explained candidate points and of the
+               // view points the candidate explains: which colours in which shares, wherever
+               // they are, so that a round object turned about its axis still agrees
+  kBest,       // the larger of the two
+};
+
 struct RegistrationParams {
   MultiRadius multi_radius = MultiRadius::kConcatenate;
   int ransac_iterations = 1000;      // hypotheses that pass the edge test (paper: 100 / 200)
@@ -46,6 +56,12 @@ struct RegistrationParams {
   // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
   // that a box face is not explained by the flat top of a can of about the same size.
   double score_distance = 0.005;
+  ColourCompare colour_compare = ColourCompare::kPoints;
+  // Colour during alignment [extension]: the RANSAC hypotheses and the ICP starts are ranked by
+  // their overlap x the colour agreement of the explained points (when both clouds have colour),
+  // so that among the poses a symmetric shape allows (a box turned over, a can turned about its
+  // axis) the one whose colours agree is kept.
+  bool colour_alignment = false;
 };
 
 // A cloud's summary, compared before any registration to shortlist the database views worth
@@ -113,6 +129,9 @@ struct Alignment {
   // [0, 1] (colour_agreement()); 1 and coloured = false when either cloud has no colour.
   double colour = 1;
   bool coloured = false;
+  // Share of the posed view's sensor-facing points that lie in front of what the sensor saw
+  // (free_space_violation(), visibility.hpp); 0 when recognition has no depth image.
+  double free_space = 0;
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };
@@ -156,6 +175,11 @@ double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::
 // Chromaticity ignores brightness, so shading and exposure differences between the database and
 // the scene do not count, while hue and saturation do.
 double chromaticity_agreement(const Rgb& a, const Rgb& b);
+// Agreement of two colour distributions in [0, 1]: the Bhattacharyya coefficient of their
+// chromaticity histograms, each colour spread over the cells as chromaticity_agreement() would
+// blur it (wider for dark colours), to the 4th power, which puts two single colours on
+// chromaticity_agreement()'s scale. 1 for equal distributions; 0 when either is empty.
+double chromaticity_histogram_agreement(const std::vector<Rgb>& a, const std::vector<Rgb>& b);
 
 // Per point (sensor frame): whether the view, put in place by pose (candidate <- model), has a
 // point within delta of it; the points that eq. 4 counts as explained.

@@ -142,6 +142,7 @@ struct SceneCounts {
   int fn = 0;             // the other known truths
   int fp = 0;             // predictions with a known name that are not a TP
   int unknown_named = 0;  // unknown truths whose matched prediction carries a known name
+  int known_unknown = 0;  // known truths whose matched prediction is "unknown"
   int pose_ok = 0;        // TPs with ADD-S under pose_share x diameter
   double seconds = 0;     // wall time, summed over scenes (set by the caller)
   double detection() const { return truths ? double(detected) / truths : 0; }
@@ -152,6 +153,7 @@ struct SceneCounts {
     return p + r > 0 ? 2 * p * r / (p + r) : 0;
   }
   double unknown_named_share() const { return unknown ? double(unknown_named) / unknown : 0; }
+  double known_unknown_share() const { return known ? double(known_unknown) / known : 0; }
   double pose_rate() const { return tp ? double(pose_ok) / tp : 0; }
   double seconds_per_scene() const { return scenes ? seconds / scenes : 0; }
   SceneCounts& operator+=(const SceneCounts& o);
