@@ -271,10 +271,18 @@ bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance
          (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm() < distance;
 }
 
+// chromaticity_agreement(), times the brightness term when brightness_sigma > 0.
+double point_agreement(const Rgb& a, const Rgb& b, double brightness_sigma) {
+  const double c = chromaticity_agreement(a, b);
+  if (!(brightness_sigma > 0)) return c;
+  const double ratio = std::log((a[0] + a[1] + a[2] + 3.0) / (b[0] + b[1] + b[2] + 3.0));
+  return c * std::exp(-0.5 * ratio * ratio / (brightness_sigma * brightness_sigma));
+}
+
 // fitness() within delta, and in `colour` the mean chromaticity agreement of the explained
 // candidate points with the view points that explain them.
 double explained_colour(const Cloud& cand, const Cloud& view, const Eigen::Matrix4d& pose,
-                        double delta, double& colour) {
+                        double delta, double brightness_sigma, double& colour) {
   const Eigen::Matrix4d inv = pose.inverse();
   int n = 0;
   double sum = 0;
@@ -283,7 +291,7 @@ double explained_colour(const Cloud& cand, const Cloud& view, const Eigen::Matri
     const int j = nearest(view.index->points, apply(inv, cand.points[i]), delta, d2);
     if (j < 0 || d2 > delta * delta) continue;
     ++n;
-    sum += chromaticity_agreement(cand.colours[i], view.colours[j]);
+    sum += point_agreement(cand.colours[i], view.colours[j], brightness_sigma);
   }
   colour = n ? sum / n : 0;
   return cand.size() ? double(n) / cand.size() : 0;
@@ -301,7 +309,8 @@ void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
   const bool coloured = p.colour_alignment && !cand.colours.empty() && !view.colours.empty();
   for (std::size_t k = 0; k < top.size(); ++k) {
     top[k].overlap = -1;
-    fit[k] = coloured ? explained_colour(cand, view, top[k].pose, p.ransac_distance, agree[k])
+    fit[k] = coloured ? explained_colour(cand, view, top[k].pose, p.ransac_distance,
+                                         p.brightness_sigma, agree[k])
                       : fitness(cand, view, top[k].pose, p.ransac_distance);
   }
   std::vector<std::size_t> order(top.size());
@@ -746,7 +755,8 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
         params.colour_alignment && !candidate.colours.empty() && !view.colours.empty();
     const double explained =
         starts == 1 ? 0
-        : coloured  ? explained_colour(candidate, view, pose, params.score_distance, agree)
+        : coloured  ? explained_colour(candidate, view, pose, params.score_distance,
+                                       params.brightness_sigma, agree)
                     : fitness(candidate, view, pose, params.score_distance);
     const double score =
         starts == 1
@@ -796,7 +806,8 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
     if (d2 <= sd2) {
       ++within_score;
       if (a.coloured) {
-        sum_colour += chromaticity_agreement(candidate.colours[i], view.colours[j]);
+        sum_colour +=
+            point_agreement(candidate.colours[i], view.colours[j], params.brightness_sigma);
         explained_colours.push_back(candidate.colours[i]);
       }
     }

@@ -114,6 +114,7 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "score_distance", p.registration.score_distance);
   f("registration", "colour_compare", p.registration.colour_compare);
   f("registration", "colour_alignment", p.registration.colour_alignment);
+  f("registration", "brightness_sigma", p.registration.brightness_sigma);
   f("", "score", p.score);
   f("", "min_score", p.min_score);
   f("", "min_margin", p.min_margin);

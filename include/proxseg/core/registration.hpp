@@ -62,6 +62,11 @@ struct RegistrationParams {
   // so that among the poses a symmetric shape allows (a box turned over, a can turned about its
   // axis) the one whose colours agree is kept.
   bool colour_alignment = false;
+  // > 0: the point colour agreement also compares brightness, as a Gaussian of the log of the
+  // two brightnesses' ratio with this sigma (wide: shading and exposure change brightness, but
+  // a black object is not a white one, while their chromaticities may agree). 0 = chromaticity
+  // only.
+  double brightness_sigma = 0;
 };
 
 // A cloud's summary, compared before any registration to shortlist the database views worth

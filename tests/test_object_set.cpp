@@ -1,0 +1,125 @@
+// The object-varied development set (object_set.hpp): the pool, the object folds, the database
+// capture, the generated shapes; and the regression guard of recognition on a few of its scenes
+// with the defaults (floors set from what the object folds reach, docs/results.md).
+#include <gtest/gtest.h>
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/eval/object_set.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <set>
+
+using namespace proxseg;
+
+namespace {
+
+const std::string kData = PROXSEG_DATA_DIR;
+
+ObjectPoolParams full_pool() {
+  ObjectPoolParams p;
+  p.linemod_dir = kData + "/lmo/models";
+  return p;
+}
+
+const std::vector<PoolObject>& pool() {
+  static const std::vector<PoolObject> objects = object_pool(full_pool());
+  return objects;
+}
+
+}  // namespace
+
+TEST(ObjectSet, PoolHasManyKindsInTwoHalvesWithGroupsKeptTogether) {
+  const std::vector<PoolObject>& p = pool();
+  std::map<std::string, std::set<int>> group_halves;
+  std::set<std::string> names, families;
+  int halves[2] = {0, 0};
+  for (const PoolObject& o : p) {
+    EXPECT_TRUE(names.insert(o.entry.name).second) << "duplicate " << o.entry.name;
+    families.insert(o.family);
+    ASSERT_TRUE(o.half == 0 || o.half == 1);
+    ++halves[o.half];
+    if (!o.group.empty()) group_halves[o.group].insert(o.half);
+    ASSERT_FALSE(o.entry.mesh.vertices.empty()) << o.entry.name;
+    EXPECT_EQ(o.entry.mesh.colours.size(), o.entry.mesh.vertices.size()) << o.entry.name;
+  }
+  EXPECT_GE(p.size(), 30u);
+  EXPECT_TRUE(families.count("linemod") && families.count("generated"));
+  EXPECT_GE(halves[0], 13);
+  EXPECT_GE(halves[1], 13);
+  for (const auto& [group, in] : group_halves) EXPECT_EQ(in.size(), 1u) << group;
+}
+
+TEST(ObjectSet, EveryObjectIsUnknownInOneFoldOfItsHalf) {
+  ObjectFoldParams fp;
+  fp.known = 9;
+  fp.unknown = 4;
+  const std::vector<ObjectFold> folds = object_folds(pool(), fp);
+  std::map<int, int> unknown_count;
+  for (const ObjectFold& f : folds) {
+    EXPECT_EQ(f.known.size(), 9u);
+    EXPECT_EQ(f.unknown.size(), 4u);
+    std::set<int> all(f.known.begin(), f.known.end());
+    for (int u : f.unknown) EXPECT_TRUE(all.insert(u).second) << f.name << ": known and unknown";
+    for (int i : all) EXPECT_EQ(pool()[i].half, f.half) << f.name;
+    for (int u : f.unknown) ++unknown_count[u];
+    const SceneCatalogue c = fold_catalogue(pool(), f);
+    ASSERT_EQ(c.entries.size(), 13u);
+    EXPECT_EQ(std::count(c.known.begin(), c.known.end(), 1), 9);
+    EXPECT_EQ(c.entries[0].name, pool()[f.known[0]].entry.name);  // known entries first
+  }
+  for (std::size_t i = 0; i < pool().size(); ++i)
+    EXPECT_GE(unknown_count[static_cast<int>(i)], 1) << pool()[i].entry.name;
+  fp.known = 100;
+  EXPECT_THROW(object_folds(pool(), fp), InputError);
+}
+
+TEST(ObjectSet, DatabaseViewsAreCapturedUnlikeTheMesh) {
+  ObjectFold f;
+  f.known = {0, 1};
+  const SceneCatalogue c = fold_catalogue(pool(), f);
+  CaptureParams cp;
+  cp.views = 3;
+  const Database db = captured_database(c, cp, DescriptorParams{});
+  ASSERT_EQ(db.views.size(), 6u);
+  EXPECT_EQ(db.views[0].object, c.entries[0].name);
+  EXPECT_EQ(db.views[5].object, c.entries[1].name);
+  for (const ModelView& v : db.views) {
+    EXPECT_GT(v.cloud.size(), 100u);
+    EXPECT_EQ(v.cloud.colours.size(), v.cloud.size());
+  }
+  // Seeded: the same capture twice is the same database.
+  const Database again = captured_database(c, cp, DescriptorParams{});
+  EXPECT_EQ(again.views[4].cloud.points, db.views[4].cloud.points);
+  EXPECT_EQ(again.views[4].cloud.colours, db.views[4].cloud.colours);
+}
+
+TEST(ObjectSet, LatheShapesAreClosedAndCupsOpen) {
+  // A fruit seen from anywhere shows no hole; a cup seen from above shows its inside, lower
+  // than its rim.
+  const auto find = [](const std::string& name) {
+    for (const PoolObject& o : pool())
+      if (o.entry.name == name) return o.entry.mesh;
+    ADD_FAILURE() << name;
+    return Mesh{};
+  };
+  ViewSphereParams vp;
+  vp.views = 6;
+  vp.distance = 0.5;
+  for (const RenderedView& v : render_views(find("apple"), vp)) EXPECT_GT(v.points.size(), 1500u);
+  const Mesh cup = find("cup-white");
+  RenderParams rp;
+  rp.camera_from_world = look_at({0, 0, 0.6}, {0, 0, 0.045});
+  const Frame top = render({cup}, rp);
+  float lowest = 1e9f, highest = -1e9f;
+  const Eigen::Isometry3d world = rp.camera_from_world.inverse();
+  for (std::size_t i = 0; i < top.size(); ++i)
+    if (top.valid(i)) {
+      const float z = static_cast<float>((world * top.xyz[i].cast<double>()).z());
+      lowest = std::min(lowest, z), highest = std::max(highest, z);
+    }
+  EXPECT_NEAR(highest, 0.09, 0.003);  // the rim
+  EXPECT_LT(lowest, 0.01);            // the inside bottom, seen through the opening
+}
