@@ -35,7 +35,10 @@ void add_db(CLI::App& app, DbOptions& o) {
       "render", "Render partial views of a coloured mesh with a virtual depth camera and add them");
   o.render->add_option("db", o.dir, "Database directory (created if missing)")->required();
   o.render->add_option("--name", o.name, "Object name")->required();
-  o.render->add_option("mesh", o.mesh, "Mesh (.ply with vertex colours)")->required();
+  o.render
+      ->add_option("mesh", o.mesh,
+                   "Mesh: .ply with vertex colours, or .obj with its .mtl and texture")
+      ->required();
   o.render->add_option("--views", o.render_views, "Number of views (cameras on a sphere)")
       ->check(CLI::Range(1, 1000));
   o.render->add_option("--units", o.units, "Units of the mesh coordinates: mm or m")

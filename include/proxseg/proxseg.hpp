@@ -24,5 +24,6 @@
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/database.hpp>
+#include <proxseg/io/obj_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>

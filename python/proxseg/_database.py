@@ -85,8 +85,9 @@ class Database:
     def render(self, object: str, mesh: PathLike, *, views: int = 8, units: str = "m",
                distance: float = 0.0, depth_noise: float = 0.0, seed: int = 1
                ) -> List[Dict[str, Any]]:
-        """Renders ``views`` partial views of a coloured mesh (PLY) with a virtual depth camera on
-        a sphere around it and adds them, as ``proxseg db render`` does [paper 3.4, Fig. 2].
+        """Renders ``views`` partial views of a coloured mesh (PLY with vertex colours, or OBJ
+        with its MTL and texture) with a virtual depth camera on a sphere around it and adds
+        them, as ``proxseg db render`` does [paper 3.4, Fig. 2].
 
         units: "m" or "mm" (the mesh's coordinates). distance: camera to the mesh's centre,
         metres (0 = automatic). depth_noise: std at 1 m, metres. seed: of the noise.

@@ -2,6 +2,7 @@
 // the label field); PLY goes through Open3D, PNG/JPEG images through libpng/libjpeg
 // (image_io.cpp), JSON through nlohmann::json.
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/obj_io.hpp>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -723,7 +724,9 @@ Mesh read_mesh(const std::string& path, double scale) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext != ".ply") fail(path, "unknown mesh extension " + quote(ext) + " (expected .ply)");
+  if (ext == ".obj") return read_obj(path, scale);  // textured: obj_io.hpp
+  if (ext != ".ply")
+    fail(path, "unknown mesh extension " + quote(ext) + " (expected .ply or .obj)");
   check_ply_header(path);
   open3d::geometry::TriangleMesh tm;
   bool ok = false;

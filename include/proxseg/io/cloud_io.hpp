@@ -20,8 +20,9 @@ Frame read_pcd(const std::string& path, const std::string& label_field = "label"
 Frame read_ply(const std::string& path);
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
-// A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models); coordinates are
-// multiplied by scale (0.001 for millimetre models) so that the mesh is in metres.
+// A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models) or a textured Wavefront
+// OBJ (read_obj in obj_io.hpp, its texture sampled at vertices at most 2 mm apart); coordinates
+// are multiplied by scale (0.001 for millimetre models) so that the mesh is in metres.
 Mesh read_mesh(const std::string& path, double scale = 1.0);
 // Plain "x y z" lines (YCB-Video models/points.xyz), metres; '#' comments and blank lines skipped.
 std::vector<Eigen::Vector3d> read_xyz(const std::string& path);
