@@ -123,3 +123,41 @@ TEST(ObjectSet, LatheShapesAreClosedAndCupsOpen) {
   EXPECT_NEAR(highest, 0.09, 0.003);  // the rim
   EXPECT_LT(lowest, 0.01);            // the inside bottom, seen through the opening
 }
+
+// The regression guard: segment() + recognize_scene() with the defaults on the first fold of
+// each half, two scenes each (dev seeds), scored like scene_bench --set objects. The floors are
+// below what these scenes reach (docs/results.md, "Recognition on the object folds").
+TEST(ObjectSet, DefaultsRecogniseTheFirstFoldOfEachHalf) {
+  ObjectPoolParams pp = full_pool();
+  pp.textured_dir = kData + "/ycb_textured";
+  const std::vector<PoolObject> objects = object_pool(pp);
+  const std::vector<ObjectFold> folds = object_folds(objects, ObjectFoldParams{});
+  SceneCounts total;
+  for (int half = 0; half < 2; ++half) {
+    const auto fold = std::find_if(folds.begin(), folds.end(),
+                                   [&](const ObjectFold& f) { return f.half == half; });
+    ASSERT_NE(fold, folds.end());
+    const SceneCatalogue catalogue = fold_catalogue(objects, *fold);
+    const Database db = captured_database(catalogue, CaptureParams{}, DescriptorParams{});
+    for (std::uint32_t seed : {1u, 2u}) {
+      const ClutterScene scene =
+          clutter_layout_scene(scene_set_params(seed, catalogue, SceneSetParams{}));
+      const SegmentResult s = segment(scene.frame, SegmentParams{});
+      const std::vector<SceneObject> found =
+          recognize_scene(scene.frame, s.selection, db, RecognitionParams{});
+      const SceneEvaluation e = evaluate_scene(seed, scene_truth(scene, catalogue),
+                                               predictions_of(found), catalogue);
+      std::printf("%s seed %u: %d/%d known named, %d FP, %d/%d unknown named, %d known "
+                  "called unknown\n",
+                  fold->name.c_str(), seed, e.counts.tp, e.counts.known, e.counts.fp,
+                  e.counts.unknown_named, e.counts.unknown, e.counts.known_unknown);
+      total += e.counts;
+    }
+  }
+  std::printf("F1 %.3f, unknown named %.3f, known called unknown %.3f, pose %.3f\n", total.f1(),
+              total.unknown_named_share(), total.known_unknown_share(), total.pose_rate());
+  EXPECT_GE(total.f1(), 0.85);
+  EXPECT_LE(total.unknown_named_share(), 0.10);
+  EXPECT_LE(total.known_unknown_share(), 0.10);
+  EXPECT_GE(total.pose_rate(), 0.9);
+}
