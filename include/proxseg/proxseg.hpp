@@ -18,6 +18,7 @@
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/metrics.hpp>
+#include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
