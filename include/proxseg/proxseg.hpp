@@ -19,6 +19,7 @@
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/metrics.hpp>
+#include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>

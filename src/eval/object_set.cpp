@@ -2,13 +2,16 @@
 // the database capture.
 #include <proxseg/core/colour.hpp>
 #include <proxseg/eval/clutter.hpp>
+#include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/object_set.hpp>
+#include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/io/cloud_io.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "util/splitmix.hpp"
 #include "util/value_noise.hpp"
@@ -256,6 +259,70 @@ void add_textured(std::vector<PoolObject>& pool, const std::string& dir) {
   }
 }
 
+// ---- YCB-Video shapes (points only) with generated paint
+
+// A generated paint for a shape without colour, seeded by its name: a base colour and one of a
+// band, a label, two tones or blotches, as printed packaging and plastic are.
+ColourFn generated_paint(const std::string& name, const Eigen::AlignedBox3d& box) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  SplitMix rng{h};
+  const auto colour = [&] {
+    const double hue = rng.uniform(), sat = rng.uniform(0.35, 0.9), val = rng.uniform(0.3, 0.95);
+    return Col(hsv_to_rgb(Eigen::Vector3d(hue, sat, val)) * 255.0);
+  };
+  const Col base = colour(), second = rng.uniform() < 0.3 ? Col(230, 228, 220) : colour();
+  const int pattern = static_cast<int>(rng.next() % 4);
+  const double z0 = box.min().z(), height = std::max(1e-6, box.sizes().z());
+  const std::uint64_t salt = rng.next();
+  return [=](const Vec3& p) {
+    const double t = (p.z() - z0) / height;
+    switch (pattern) {
+      case 0:  // a band around the middle
+        return rgb(t > 0.35 && t < 0.65 ? second : base);
+      case 1:  // a label on one side
+        return rgb(p.x() > box.center().x() && t > 0.2 && t < 0.8 ? second : base);
+      case 2:  // two tones, top and bottom
+        return rgb(t > 0.6 ? second : base);
+      default:  // blotches
+        return rgb(vnoise(p / 0.025, salt) > 0.55 ? second : base);
+    }
+  };
+}
+
+void add_ycb(std::vector<PoolObject>& pool, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const std::vector<std::string> classes = read_lines((fs::path(dir) / "classes.txt").string());
+  // Look-alike groups stay in one half: the small boxes, the big boxes, two cans, the clamps.
+  const std::map<std::string, std::pair<std::string, int>> grouped = {
+      {"008_pudding_box", {"ycb-small-box", 0}}, {"009_gelatin_box", {"ycb-small-box", 0}},
+      {"003_cracker_box", {"ycb-big-box", 1}},   {"004_sugar_box", {"ycb-big-box", 1}},
+      {"005_tomato_soup_can", {"ycb-can", 0}},   {"010_potted_meat_can", {"ycb-can", 0}},
+      {"051_large_clamp", {"clamp", 1}},         {"052_extra_large_clamp", {"clamp", 1}}};
+  int next_half = 1;
+  for (const std::string& c : classes) {
+    if (c == "011_banana" || c == "037_scissors") continue;  // the scans have them, textured
+    const fs::path path = fs::path(dir) / "models" / c / "points.xyz";
+    if (!fs::is_regular_file(path))
+      throw InputError(path.string() + ": missing (the object pool needs the YCB-Video model)");
+    Mesh mesh = mesh_from_points(read_xyz(path.string()));
+    Eigen::AlignedBox3d box;
+    for (const auto& v : mesh.vertices) box.extend(v.cast<double>());
+    const ColourFn paint = generated_paint(c, box);
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+      mesh.colours[i] = paint(mesh.vertices[i].cast<double>());
+    const auto g = grouped.find(c);
+    int half = 0;
+    std::string group;
+    if (g != grouped.end()) {
+      group = g->second.first, half = g->second.second;
+    } else {
+      half = next_half, next_half = 1 - next_half;
+    }
+    pool.push_back(pool_object(c, ClutterKind::mesh, std::move(mesh), false, "ycb", group, half));
+  }
+}
+
 }  // namespace
 
 Mesh hue_turned(Mesh m, double hue) {
@@ -278,6 +345,7 @@ std::vector<PoolObject> object_pool(const ObjectPoolParams& params) {
   std::vector<PoolObject> pool;
   if (!params.linemod_dir.empty()) add_linemod(pool, params.linemod_dir);
   if (!params.textured_dir.empty()) add_textured(pool, params.textured_dir);
+  if (!params.ycbv_dir.empty()) add_ycb(pool, params.ycbv_dir);
   if (params.generated) add_generated(pool);
   return pool;
 }
