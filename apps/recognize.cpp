@@ -66,6 +66,9 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("--merge-distance", o.merge_distance,
                   "Merge two pieces within this distance (metres) when their union is named with a "
                   "better score (0 = never)");
+  cmd->add_option("--free-space", o.free_space,
+                  "Scenes: a model put where the sensor saw through it (more than this many metres "
+                  "in front of the measured depth) or off the image scores less (0 = off)");
   cmd->add_option("--seed", o.seed, "Seed of the RANSAC samples");
   add_scene_options(cmd, o);
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
@@ -95,6 +98,7 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   if (o.point_to_plane) p.registration.point_to_plane = true;
   if (o.split_fitness) p.split_fitness = *o.split_fitness;
   if (o.merge_distance) p.merge_distance = *o.merge_distance;
+  if (o.free_space) p.free_space_tolerance = *o.free_space;
   if (o.seed) p.seed = *o.seed;
   if (o.threads) p.threads = *o.threads;
   proxseg::validate(p);

@@ -313,7 +313,9 @@ TEST(Recognition, ColourTellsApartTwoObjectsOfOneShape) {
       m.cloud = describe(pts, v.eye, db.descriptor, &v.points.rgb);
       db.views.push_back(std::move(m));
     }
+  // Chromaticity alone: a quarter of the brightness (a darker paint, in deep shadow) still agrees.
   RecognitionParams colour, shape;
+  colour.registration.brightness_sigma = 0;
   shape.score = Score::kSymmetric;
   const std::vector<std::pair<std::string, Rgb (*)(const Rgb&)>> paints = {{"duck", &dim},
                                                                            {"blue duck", &blue}};
@@ -326,6 +328,11 @@ TEST(Recognition, ColourTellsApartTwoObjectsOfOneShape) {
     // Geometry alone cannot tell them apart: the two best scores are close.
     const Recognition g = recognize(c, db, shape);
     EXPECT_LT(std::abs(g.best.score - g.runner_up.score), 0.1) << name;
+    // With the default brightness term a shadow (half the brightness) still names it.
+    const Cloud shade = seen_view(duck, paint).candidate;
+    const Recognition d = recognize(shade, db, RecognitionParams{});
+    EXPECT_EQ(d.name, name);
+    EXPECT_GT(d.best.score - d.runner_up.score, 0.3) << name;
   }
 }
 

@@ -753,11 +753,11 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
     double agree = 1;
     const bool coloured =
         params.colour_alignment && !candidate.colours.empty() && !view.colours.empty();
-    const double explained =
-        starts == 1 ? 0
-        : coloured  ? explained_colour(candidate, view, pose, params.score_distance,
-                                       params.brightness_sigma, agree)
-                    : fitness(candidate, view, pose, params.score_distance);
+    const double explained = starts == 1 ? 0
+                             : coloured
+                                 ? explained_colour(candidate, view, pose, params.score_distance,
+                                                    params.brightness_sigma, agree)
+                                 : fitness(candidate, view, pose, params.score_distance);
     const double score =
         starts == 1
             ? 0

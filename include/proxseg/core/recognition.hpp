@@ -68,7 +68,7 @@ struct RecognitionParams {
   // sensor saw through it is not the object. Scores are multiplied by 1 - the share of the
   // posed view's sensor-facing points more than free_space_tolerance + 0.005 z^2 metres in front
   // of the measured depth (free_space_violation()). Organized frames only; 0 = off.
-  double free_space_tolerance = 0;
+  double free_space_tolerance = 0.01;
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores; the answer does not depend on it
 };
