@@ -401,9 +401,11 @@ nlohmann::json recognition_json(const SceneObject& o, const Database& db) {
   };
   const auto match = [&](const Match& m) -> nlohmann::json {
     if (m.view < 0) return nullptr;
-    return {{"name", m.object},     {"view", db.views[m.view].file}, {"score", m.score},
-            {"fitness", m.fitness}, {"coverage", m.coverage},        {"colour", m.colour},
-            {"rmse", m.rmse},       {"pose", rows(m.pose)}};
+    return {{"name", m.object},           {"view", db.views[m.view].file},
+            {"score", m.score},           {"fitness", m.fitness},
+            {"coverage", m.coverage},     {"colour", m.colour},
+            {"free_space", m.free_space}, {"rmse", m.rmse},
+            {"pose", rows(m.pose)}};
   };
   nlohmann::json j = {{"id", o.id},
                       {"instances", o.instances},
@@ -420,6 +422,7 @@ nlohmann::json recognition_json(const SceneObject& o, const Database& db) {
     j["fitness"] = r.best.fitness;
     j["coverage"] = r.best.coverage;
     j["colour"] = r.best.colour;
+    j["free_space"] = r.best.free_space;
     j["pose"] = rows(r.best.pose);
   }
   return j;
