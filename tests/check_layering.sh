@@ -43,11 +43,13 @@ while IFS= read -r hit; do
   bad=1
 done < <(grep -nE '^\s*#\s*include\s*<proxseg/eval/' python/src/*.[ch]pp /dev/null 2>/dev/null || true)
 
-# Private helpers shared by all parts depend on none of them.
+# Private helpers shared by all parts depend on none of them (one helper may build on another:
+# value noise on the splitmix hash).
 while IFS= read -r hit; do
   echo "$hit  <- a src/util helper includes a proxseg header" >&2
   bad=1
-done < <(grep -nE '^\s*#\s*include\s*(<proxseg/|")' src/util/*.hpp /dev/null || true)
+done < <(grep -nE '^\s*#\s*include\s*(<proxseg/|")' src/util/*.hpp /dev/null |
+  grep -vE '#\s*include\s*"util/[a-z_]+\.hpp"' || true)
 
 if ((bad)); then
   echo "check_layering: the dependency direction core -> io -> eval is broken (see above)" >&2

@@ -38,5 +38,6 @@ expect_fail src/core/selection.cpp '#include <proxseg/eval/scene_eval.hpp>'
 expect_fail include/proxseg/io/output.hpp '#include <proxseg/eval/rec_eval.hpp>'
 expect_fail src/core/features.cpp '#include "../io/image_io.hpp"'
 expect_fail src/util/stopwatch.hpp '#include <proxseg/core/frame.hpp>'
+expect_fail src/util/stopwatch.hpp '#include "../core/maxflow.hpp"'
 expect_fail python/src/segment.cpp '#include <proxseg/eval/metrics.hpp>'
 echo "layering_test: all injected wrong-way includes were caught"
