@@ -899,17 +899,9 @@ double chromaticity_agreement(const Rgb& a, const Rgb& b) {
 double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                         double delta) {
   if (candidate.colours.empty() || view.colours.empty()) return 1;
-  const Eigen::Matrix4d inv = pose.inverse();
-  int n = 0;
-  double sum = 0;
-  for (std::size_t i = 0; i < candidate.size(); ++i) {
-    double d2 = 0;
-    const int j = nearest(view.index->points, apply(inv, candidate.points[i]), delta, d2);
-    if (j < 0 || d2 > delta * delta) continue;
-    ++n;
-    sum += chromaticity_agreement(candidate.colours[i], view.colours[j]);
-  }
-  return n ? sum / n : 0;
+  double colour = 0;
+  explained_colour(candidate, view, pose, delta, 0, colour);  // chromaticity only
+  return colour;
 }
 
 }  // namespace proxseg
