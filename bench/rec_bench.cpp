@@ -209,13 +209,15 @@ std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
     const std::vector<proxseg::peers::PeerAlignment> aligned =
         peer.align(c, static_cast<int>(rp.seed));
     const int n = static_cast<int>(aligned.size());
-    std::vector<double> score(n, 0), score_ms(n, 0);
+    std::vector<double> score(n, 0), rank(n, 0), score_ms(n, 0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int v = 0; v < n; ++v) {
       if (!aligned[v].found) continue;  // no hypothesis, no pose to score: 0
       const auto ts = Clock::now();
-      score[v] = proxseg::score_of(
-          proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration), rp.score);
+      const proxseg::Alignment scored =
+          proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
+      score[v] = proxseg::score_of(scored, rp.score);
+      rank[v] = proxseg::rank_of(scored, rp.score);
       score_ms[v] = ms_since(ts);
     }
     for (int v = 0; v < n; ++v) {
@@ -223,7 +225,8 @@ std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
       a.icp_ms += aligned[v].icp_ms;
       a.score_ms += score_ms[v];
     }
-    const int best = static_cast<int>(std::max_element(score.begin(), score.end()) - score.begin());
+    // Ranked allowing for an occlusion, judged on the score, as recognize() does.
+    const int best = static_cast<int>(std::max_element(rank.begin(), rank.end()) - rank.begin());
     if (n > 0 && aligned[best].found) {
       a.best = db.views[best].object;
       a.score = score[best];

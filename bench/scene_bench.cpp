@@ -191,17 +191,21 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
     const std::vector<proxseg::peers::PeerAlignment> aligned =
         open3d.align(c, static_cast<int>(rp.seed));
     const int n = static_cast<int>(aligned.size());
-    std::vector<double> score(n, 0);
+    std::vector<double> score(n, 0), rank(n, 0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int v = 0; v < n; ++v)
-      if (aligned[v].found)  // no hypothesis, no pose to score: 0
-        score[v] = proxseg::score_of(
-            proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration), rp.score);
+      if (aligned[v].found) {  // no hypothesis, no pose to score: 0
+        const proxseg::Alignment scored =
+            proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
+        score[v] = proxseg::score_of(scored, rp.score);
+        rank[v] = proxseg::rank_of(scored, rp.score);
+      }
     Prediction p;
     p.points = std::move(points);
+    // Ranked allowing for an occlusion, judged on the score, as recognize() does.
     int best = -1;
     for (int v = 0; v < n; ++v)
-      if (aligned[v].found && (best < 0 || score[v] > score[best])) best = v;
+      if (aligned[v].found && (best < 0 || rank[v] > rank[best])) best = v;
     if (best >= 0) {
       p.best = db.views[best].object;
       p.score = score[best];

@@ -230,6 +230,115 @@ TEST(Registration, RecoversAKnownPoseOfARenderedView) {
   EXPECT_EQ(a.pose, b.pose);
 }
 
+// Occlusion [extension, docs/method.md "A database that scales"]: a driller view seen by a camera,
+// whole and with 30-50 % of its points removed by the paper's occlusion generator, at its true
+// pose.
+namespace {
+struct OccludedView {
+  Cloud view, whole, occluded;
+  Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();  // camera <- model
+  double removed = 0;
+};
+OccludedView occluded_driller() {
+  const Mesh mesh = read_mesh(kData + "/lmo/models/obj_000008.ply", 0.001);
+  ViewSphereParams p;
+  p.views = 4;
+  const auto views = render_views(mesh, p);
+  OccludedView o;
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d(2, -1, 1).normalized()).matrix();
+  truth.translation() = Eigen::Vector3d(-0.03, 0.02, 0.9);
+  o.truth = truth.matrix();
+  std::vector<Eigen::Vector3d> model, seen;
+  for (const auto& q : views[1].points.xyz) {
+    model.push_back(q.cast<double>());
+    seen.push_back(truth * model.back());
+  }
+  o.view = describe(model, views[1].eye, DescriptorParams{});
+  o.whole = describe(seen, Eigen::Vector3d::Zero(), DescriptorParams{});
+  for (std::uint64_t seed = 1;; ++seed) {
+    const Occlusion c = occlude(seen, 0.2, seed);
+    if (c.removed_share < 0.3 || c.removed_share >= 0.5) continue;
+    o.occluded = describe(c.points, Eigen::Vector3d::Zero(), DescriptorParams{});
+    o.removed = c.removed_share;
+    return o;
+  }
+}
+}  // namespace
+
+TEST(Registration, CoverageDiscountsWhatAnOcclusionHid) {
+  const OccludedView o = occluded_driller();
+  const double delta = RegistrationParams{}.score_distance;
+  // The whole view: its model lies inside its silhouette, and the weight changes nothing.
+  const CoverageCounts whole = coverage_counts(o.whole, o.view, o.truth, delta);
+  EXPECT_LT(whole.outside, 0.02 * (whole.inside + whole.outside));
+  EXPECT_NEAR(coverage(o.whole, o.view, o.truth, delta, 0.2),
+              coverage(o.whole, o.view, o.truth, delta), 0.02);
+  EXPECT_GT(coverage(o.whole, o.view, o.truth, delta), 0.9);
+  // The occluded view: what the model predicts in the hidden region lies outside the silhouette.
+  const CoverageCounts hid = coverage_counts(o.occluded, o.view, o.truth, delta);
+  const int visible = hid.inside + hid.outside;
+  EXPECT_GT(hid.outside, 0.2 * visible) << "removed " << o.removed;
+  EXPECT_DOUBLE_EQ(coverage(o.occluded, o.view, o.truth, delta), double(hid.explained) / visible);
+  EXPECT_LT(coverage(o.occluded, o.view, o.truth, delta), 0.75);
+  EXPECT_GT(coverage(o.occluded, o.view, o.truth, delta, 0.2),
+            coverage(o.occluded, o.view, o.truth, delta) + 0.15);
+  EXPECT_GT(coverage(o.occluded, o.view, o.truth, delta, 0), 0.9);
+  // score_pose(): the coverage that ranks allows for the occlusion, the score's does not.
+  RegistrationParams r;
+  const Alignment a = score_pose(o.occluded, o.view, o.truth, r);
+  EXPECT_DOUBLE_EQ(a.coverage, coverage(o.occluded, o.view, o.truth, delta));
+  EXPECT_DOUBLE_EQ(a.occluded_coverage,
+                   coverage(o.occluded, o.view, o.truth, delta, r.coverage_outside_weight));
+  EXPECT_GT(a.occluded_coverage, a.coverage + 0.1);
+  EXPECT_GT(rank_of(a, Score::kSymmetric), score_of(a, Score::kSymmetric));
+  r.coverage_outside_weight = 1;
+  const Alignment none = score_pose(o.occluded, o.view, o.truth, r);
+  EXPECT_EQ(none.occluded_coverage, none.coverage);
+  EXPECT_EQ(none.coverage, a.coverage);
+  EXPECT_EQ(rank_of(none, Score::kColour), score_of(none, Score::kColour));
+}
+
+TEST(Recognition, PartSignaturesBringAnOccludedViewNearItsOwn) {
+  const OccludedView o = occluded_driller();
+  ASSERT_EQ(o.view.signature.parts.size(), 24u);  // 8 centres x 3 shares removed
+  for (const Signature& part : o.view.signature.parts) {
+    EXPECT_TRUE(part.parts.empty());
+    EXPECT_NEAR(part.shape.sum(), 2.0f, 1e-4);  // two FPFH radii, each block sums to 1
+    EXPECT_GT(part.spread, 0);
+  }
+  // The nearest part is nearer than the whole view; for the whole candidate the whole view is
+  // about as near as any part.
+  const double d_whole = signature_distance(o.occluded.signature, o.view.signature);
+  const double d_parts = view_distance(o.occluded.signature, o.view.signature);
+  EXPECT_LT(d_parts, 0.8 * d_whole) << d_parts << " " << d_whole;
+  EXPECT_LE(view_distance(o.whole.signature, o.view.signature),
+            signature_distance(o.whole.signature, o.view.signature));
+}
+
+// Views are ranked allowing for the occlusion (Match::rank) and the answer judged on the score.
+TEST(Recognition, RanksAllowingForOcclusionAndJudgesOnTheWholeView) {
+  const OccludedView o = occluded_driller();
+  Database db = open_database(fresh_dir("db_occluded"), DescriptorParams{});
+  add_linemod(db, 4);
+  const Recognition r = recognize(o.occluded, db, {});
+  EXPECT_EQ(r.name, "driller");
+  EXPECT_GT(r.best.rank, r.best.score + 0.05);
+  EXPECT_EQ(r.best.score, score_of(r.alignments[r.best.view], Score::kColour));
+  EXPECT_EQ(r.runner_up.score, [&] {
+    double best = 0;
+    for (std::size_t v = 0; v < db.views.size(); ++v)
+      if (db.views[v].object != "driller")
+        best = std::max(best, score_of(r.alignments[v], Score::kColour));
+    return best;
+  }());
+  RecognitionParams whole;
+  whole.registration.coverage_outside_weight = 1;
+  const Recognition w = recognize(o.occluded, db, whole);
+  EXPECT_EQ(w.best.rank, w.best.score);
+  EXPECT_EQ(w.name, "driller");
+}
+
 // Colour in recognition [extension, docs/method.md "Colour in recognition"].
 TEST(Colour, ChromaticityIgnoresBrightnessButNotHue) {
   const Rgb red{200, 40, 30}, dim_red{80, 16, 12}, orange{200, 110, 30}, black{12, 12, 14};
@@ -349,8 +458,12 @@ TEST(Recognition, ShortlistKeepsTheNearestViewsOfTheAskedObjects) {
   ASSERT_EQ(near.size(), 6u);
   EXPECT_EQ(db.views[near[0]].object, "driller");
   for (std::size_t k = 1; k < near.size(); ++k)
-    EXPECT_LE(signature_distance(c.signature, db.views[near[k - 1]].cloud.signature),
-              signature_distance(c.signature, db.views[near[k]].cloud.signature));
+    EXPECT_LE(view_distance(c.signature, db.views[near[k - 1]].cloud.signature),
+              view_distance(c.signature, db.views[near[k]].cloud.signature));
+  const std::vector<int> whole = shortlist_views(c, db, 6, {}, false);
+  for (std::size_t k = 1; k < whole.size(); ++k)
+    EXPECT_LE(signature_distance(c.signature, db.views[whole[k - 1]].cloud.signature),
+              signature_distance(c.signature, db.views[whole[k]].cloud.signature));
   const std::vector<int> only = shortlist_views(c, db, 0, {"duck", "cat"});
   ASSERT_EQ(only.size(), 8u);
   for (int v : only) EXPECT_TRUE(db.views[v].object == "duck" || db.views[v].object == "cat");

@@ -145,6 +145,8 @@ void validate(const RecognitionParams& p) {
   require(positive(r.score_distance), "registration.score_distance", "> 0 metres");
   require(r.brightness_sigma >= 0 && std::isfinite(r.brightness_sigma),
           "registration.brightness_sigma", ">= 0 (0 = chromaticity only)");
+  require(r.coverage_outside_weight >= 0 && r.coverage_outside_weight <= 1,
+          "registration.coverage_outside_weight", "in [0, 1]");
   require(p.min_score >= 0 && p.min_score <= 1, "min_score", "in [0, 1]");
   require(p.min_margin >= 0 && p.min_margin <= 1, "min_margin", "in [0, 1]");
   require(p.confident_score >= 0 && p.confident_score <= 1, "confident_score",

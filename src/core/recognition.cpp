@@ -26,18 +26,30 @@ constexpr int kBatch = 8;  // views per early-exit check; fixed, so answers do n
 
 }  // namespace
 
-double score_of(const Alignment& a, Score score) {
+namespace {
+
+double score_with(const Alignment& a, Score score, double coverage) {
   const double seen = 1 - a.free_space;
   switch (score) {
     case Score::kFitness:
       return a.fitness;
     case Score::kSymmetric:
-      return symmetric_overlap(a.close_fitness, a.coverage) * seen;
+      return symmetric_overlap(a.close_fitness, coverage) * seen;
     case Score::kColour:
-      return symmetric_overlap(a.close_fitness, a.coverage) *
+      return symmetric_overlap(a.close_fitness, coverage) *
              (a.coloured ? a.colour : kColourlessAgreement) * seen;
   }
   return 0;
+}
+
+}  // namespace
+
+double score_of(const Alignment& a, Score score) {
+  return score_with(a, score, a.coverage);
+}
+
+double rank_of(const Alignment& a, Score score) {
+  return score_with(a, score, a.occluded_coverage);
 }
 
 Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
@@ -46,15 +58,17 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 }
 
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
-                                 const std::vector<std::string>& objects) {
+                                 const std::vector<std::string>& objects, bool parts) {
   std::vector<std::pair<double, int>> ranked;
   for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
     if (!objects.empty() &&
         std::find(objects.begin(), objects.end(), db.views[v].object) == objects.end())
       continue;
-    ranked.emplace_back(
-        shortlist > 0 ? signature_distance(candidate.signature, db.views[v].cloud.signature) : 0.0,
-        v);
+    ranked.emplace_back(shortlist <= 0 ? 0.0
+                        : parts
+                            ? view_distance(candidate.signature, db.views[v].cloud.signature)
+                            : signature_distance(candidate.signature, db.views[v].cloud.signature),
+                        v);
   }
   // Ties (and the whole order without a shortlist) go by view index.
   std::stable_sort(ranked.begin(), ranked.end(),
@@ -83,7 +97,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
   const detail::Stopwatch align_watch;
   const Cloud sample = subsample(candidate, params.registration.max_points);
-  const std::vector<int> views = shortlist_views(candidate, db, params.shortlist, objects);
+  const std::vector<int> views =
+      shortlist_views(candidate, db, params.shortlist, objects, params.shortlist_parts);
   const int m = static_cast<int>(views.size());
   for (int begin = 0; begin < m; begin += kBatch) {
     const int end = std::min(m, begin + kBatch);
@@ -101,21 +116,35 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     if (params.early_exit > 0) {
       bool good = false;
       for (int k = begin; k < end; ++k)
-        good |= score_of(r.alignments[views[k]], params.score) >= params.early_exit;
+        good |= rank_of(r.alignments[views[k]], params.score) >= params.early_exit;
       if (good) break;
     }
   }
   r.align_ms = align_watch.ms();
-  // Algorithm 3: the best view names the candidate; ties go to the earlier view.
+  // Algorithm 3: the best view names the candidate; ties go to the earlier view. Views are
+  // ranked allowing for an occlusion (rank_of()); the answer is judged on the score, which does
+  // not: an occlusion may explain why a model's surface is missing, which is reason to prefer the
+  // model that explains what was seen, but it is no evidence for the object. When the two
+  // disagree on the object, the runner-up scores more than the best and the answer is doubtful.
   const auto to_match = [&](int v) {
     const Alignment& a = r.alignments[v];
-    return Match{db.views[v].object,        v,      a.pose,   a.fitness,   a.coverage,
-                 score_of(a, params.score), a.rmse, a.colour, a.free_space};
+    Match m;
+    m.object = db.views[v].object;
+    m.view = v;
+    m.pose = a.pose;
+    m.fitness = a.fitness;
+    m.coverage = a.coverage;
+    m.score = score_of(a, params.score);
+    m.rank = rank_of(a, params.score);
+    m.rmse = a.rmse;
+    m.colour = a.colour;
+    m.free_space = a.free_space;
+    return m;
   };
   for (int v = 0; v < n; ++v) {
     if (!done[v]) continue;
     const Match m = to_match(v);
-    if (r.best.view < 0 || m.score > r.best.score) r.best = m;
+    if (r.best.view < 0 || m.rank > r.best.rank) r.best = m;
   }
   for (int v = 0; v < n; ++v) {
     if (!done[v] || db.views[v].object == r.best.object) continue;

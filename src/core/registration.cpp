@@ -117,10 +117,25 @@ Eigen::Vector2d chromaticity(const Rgb& c) {
   return Eigen::Vector2d(v.x(), v.y()) / v.sum();
 }
 
-Signature make_signature(const Cloud& c) {
+// The signature of the points `keep` of c (indices, ascending; every point when null).
+Signature signature_of(const Cloud& c, const std::vector<int>* keep) {
   Signature s;
-  if (c.size() == 0) return s;
-  s.shape = c.features.rowwise().mean().cast<float>();
+  const int n = keep ? static_cast<int>(keep->size()) : static_cast<int>(c.size());
+  if (n == 0) return s;
+  const auto at = [&](int k) { return keep ? (*keep)[k] : k; };
+  Eigen::Vector3d centroid = c.centroid;
+  if (keep) {
+    Eigen::VectorXd shape = Eigen::VectorXd::Zero(c.features.rows());
+    centroid.setZero();
+    for (int i : *keep) {
+      shape += c.features.col(i);
+      centroid += c.points[i];
+    }
+    centroid /= n;
+    s.shape = (shape / n).cast<float>();
+  } else {
+    s.shape = c.features.rowwise().mean().cast<float>();
+  }
   for (int b = 0; b + kFpfhBins <= s.shape.size(); b += kFpfhBins) {
     const float sum = s.shape.segment(b, kFpfhBins).sum();
     if (sum > 0) s.shape.segment(b, kFpfhBins) /= sum;
@@ -130,8 +145,9 @@ Signature make_signature(const Cloud& c) {
     // cell border does not jump between cells.
     constexpr int kCells = 8;
     s.colour = Eigen::VectorXf::Zero(kCells * kCells);
-    for (const Rgb& rgb : c.colours) {
-      const Eigen::Vector2d x = chromaticity(rgb) * kCells - Eigen::Vector2d::Constant(0.5);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d x =
+          chromaticity(c.colours[at(k)]) * kCells - Eigen::Vector2d::Constant(0.5);
       const int x0 = static_cast<int>(std::floor(x.x())), y0 = static_cast<int>(std::floor(x.y()));
       const double fx = x.x() - x0, fy = x.y() - y0;
       for (int dy = 0; dy < 2; ++dy)
@@ -144,8 +160,51 @@ Signature make_signature(const Cloud& c) {
     s.colour /= s.colour.sum();
   }
   double sum2 = 0;
-  for (const auto& p : c.points) sum2 += (p - c.centroid).squaredNorm();
-  s.spread = std::sqrt(sum2 / c.size());
+  for (int k = 0; k < n; ++k) sum2 += (c.points[at(k)] - centroid).squaredNorm();
+  s.spread = std::sqrt(sum2 / n);
+  return s;
+}
+
+// The signature of the whole cloud and of the parts an occlusion would leave of it
+// [extension, docs/method.md "A database that scales"]: the paper's occlusions (and an object in
+// front) hide the points near some point of the view, which moves the mean FPFH and shrinks the
+// spread, so the whole view's signature is far from what is left of it. Each part is the cloud
+// without the share kPartShares of its points nearest to a centre; the kPartCentres centres are
+// spread over the cloud by farthest-point sampling from the point farthest from the centroid.
+constexpr int kPartCentres = 8;
+constexpr double kPartShares[] = {0.15, 0.3, 0.45};
+
+Signature make_signature(const Cloud& c) {
+  Signature s = signature_of(c, nullptr);
+  const int n = static_cast<int>(c.size());
+  if (n < 2 * kPartCentres) return s;
+  std::vector<int> centres;
+  int first = 0;
+  for (int i = 1; i < n; ++i)
+    if ((c.points[i] - c.centroid).squaredNorm() > (c.points[first] - c.centroid).squaredNorm())
+      first = i;
+  centres.push_back(first);
+  std::vector<double> d2(n, std::numeric_limits<double>::infinity());
+  while (static_cast<int>(centres.size()) < kPartCentres) {
+    int far = 0;
+    for (int i = 0; i < n; ++i) {
+      d2[i] = std::min(d2[i], (c.points[i] - c.points[centres.back()]).squaredNorm());
+      if (d2[i] > d2[far]) far = i;
+    }
+    centres.push_back(far);
+  }
+  std::vector<int> order(n), keep;
+  std::vector<double> dist(n);
+  for (int centre : centres) {
+    for (int i = 0; i < n; ++i) dist[i] = (c.points[i] - c.points[centre]).squaredNorm();
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return dist[a] < dist[b]; });
+    for (double share : kPartShares) {
+      keep.assign(order.begin() + static_cast<int>(share * n), order.end());
+      std::sort(keep.begin(), keep.end());
+      s.parts.push_back(signature_of(c, &keep));
+    }
+  }
   return s;
 }
 
@@ -590,6 +649,12 @@ Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> 
   return c;
 }
 
+double view_distance(const Signature& candidate, const Signature& view) {
+  double d = signature_distance(candidate, view);
+  for (const Signature& part : view.parts) d = std::min(d, signature_distance(candidate, part));
+  return d;
+}
+
 double signature_distance(const Signature& a, const Signature& b) {
   double d = 0;
   if (a.shape.size() == b.shape.size() && a.shape.size() > 0)
@@ -633,12 +698,15 @@ std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cl
 // points within a few spacings of the nearest one. Directions are taken on the plane tangent to
 // the unit sphere at the object's direction (a gnomonic projection, within 1 % of the angles
 // over an object's few degrees): no trigonometry, and a dense buffer over the object's cells.
-double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
-                double delta) {
+// Without `silhouette`, every visible point counts as inside.
+namespace {
+CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
+                              const Eigen::Matrix4d& pose, double delta, bool silhouette) {
+  CoverageCounts out;
   const Eigen::Vector3d axis = apply(pose, view.centroid) - candidate.viewpoint;
   const double range = axis.norm();
   const double spacing = std::max(view.spacing, candidate.spacing);
-  if (view.size() == 0 || !(range > 0) || !(spacing > 0)) return 0;
+  if (view.size() == 0 || !(range > 0) || !(spacing > 0)) return out;
   const Eigen::Vector3d d = axis / range;
   const Eigen::Vector3d e1 = d.unitOrthogonal(), e2 = d.cross(e1);
   std::vector<Eigen::Vector3d> q(view.size());
@@ -660,7 +728,7 @@ double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d
     lo = lo.cwiseMin(dir[j]);
     hi = hi.cwiseMax(dir[j]);
   }
-  if (!(lo.x() <= hi.x())) return 0;
+  if (!(lo.x() <= hi.x())) return out;
   // Cells three spacings wide, coarser when a degenerate spacing would need over 1M cells.
   double cell = 3 * spacing / range;
   while (((hi - lo) / cell).array().floor().prod() > 1e6) cell *= 2;
@@ -675,15 +743,40 @@ double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d
     key[j] = static_cast<std::size_t>(c.y()) * dims.x() + c.x();
     zbuf[key[j]] = std::min(zbuf[key[j]], depth[j]);
   }
-  int visible = 0, explained = 0;
+  // The candidate's silhouette on the same cells: where the sensor saw the candidate. A view
+  // point outside it is one the sensor should have seen and did not: the model is wrong there,
+  // or something (an occlusion) hid that part of the object.
+  std::vector<char> seen(zbuf.size(), silhouette ? 0 : 1);
+  for (std::size_t i = 0; silhouette && i < candidate.size(); ++i) {
+    const Eigen::Vector3d c = candidate.points[i] - candidate.viewpoint;
+    const double ahead = c.dot(d);
+    if (!(ahead > 0.5 * c.norm())) continue;
+    const Eigen::Vector2d x = (Eigen::Vector2d(c.dot(e1), c.dot(e2)) / ahead - lo) / cell;
+    const int cx = static_cast<int>(std::floor(x.x())), cy = static_cast<int>(std::floor(x.y()));
+    if (cx < 0 || cy < 0 || cx >= dims.x() || cy >= dims.y()) continue;
+    seen[static_cast<std::size_t>(cy) * dims.x() + cx] = 1;
+  }
   for (std::size_t j = 0; j < view.size(); ++j) {
     if (depth[j] < 0 || depth[j] > zbuf[key[j]] + 2 * spacing) continue;
-    ++visible;
+    ++(seen[key[j]] ? out.inside : out.outside);
     double d2 = 0;
-    explained += nearest(candidate.index->points, q[j] + candidate.viewpoint, delta, d2) >= 0 &&
-                 d2 <= delta * delta;
+    out.explained += nearest(candidate.index->points, q[j] + candidate.viewpoint, delta, d2) >= 0 &&
+                     d2 <= delta * delta;
   }
-  return visible ? double(explained) / visible : 0;
+  return out;
+}
+}  // namespace
+
+CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
+                               const Eigen::Matrix4d& pose, double delta) {
+  return count_coverage(candidate, view, pose, delta, true);
+}
+
+double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
+                double delta, double outside_weight) {
+  const CoverageCounts c = count_coverage(candidate, view, pose, delta, outside_weight < 1);
+  const double counted = c.inside + outside_weight * c.outside;
+  return counted > 0 ? std::min(1.0, c.explained / counted) : 0;
 }
 
 Cloud subsample(const Cloud& cloud, int max_points) {
@@ -774,6 +867,7 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
   a.fitness = scored.fitness;
   a.close_fitness = scored.close_fitness;
   a.coverage = scored.coverage;
+  a.occluded_coverage = scored.occluded_coverage;
   a.rmse = scored.rmse;
   a.colour = scored.colour;
   a.coloured = scored.coloured;
@@ -830,7 +924,12 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
     const double h = chromaticity_histogram_agreement(explained_colours, shown);
     a.colour = params.colour_compare == ColourCompare::kHistogram ? h : std::max(a.colour, h);
   }
-  a.coverage = coverage(candidate, view, pose, params.score_distance);
+  const double w = params.coverage_outside_weight;
+  const CoverageCounts c = count_coverage(candidate, view, pose, params.score_distance, w < 1);
+  const double visible = c.inside + c.outside;
+  a.coverage = visible > 0 ? c.explained / visible : 0;
+  const double counted = c.inside + w * c.outside;
+  a.occluded_coverage = counted > 0 ? std::min(1.0, c.explained / counted) : 0;
   return a;
 }
 

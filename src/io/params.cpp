@@ -112,6 +112,7 @@ void recognition_fields(P& p, F&& f) {
   f("registration", "point_to_plane", p.registration.point_to_plane);
   f("registration", "fitness_distance", p.registration.fitness_distance);
   f("registration", "score_distance", p.registration.score_distance);
+  f("registration", "coverage_outside_weight", p.registration.coverage_outside_weight);
   f("registration", "colour_compare", p.registration.colour_compare);
   f("registration", "colour_alignment", p.registration.colour_alignment);
   f("registration", "brightness_sigma", p.registration.brightness_sigma);
@@ -120,6 +121,7 @@ void recognition_fields(P& p, F&& f) {
   f("", "min_margin", p.min_margin);
   f("", "confident_score", p.confident_score);
   f("", "shortlist", p.shortlist);
+  f("", "shortlist_parts", p.shortlist_parts);
   f("", "trial_shortlist", p.trial_shortlist);
   f("", "early_exit", p.early_exit);
   f("", "split_fitness", p.split_fitness);

@@ -42,10 +42,15 @@ struct RecognitionParams {
   // the candidate and of its own visible surface names it even when a look-alike comes close
   // (the YCB-Video gelatin box, 0.89, against the pudding box, 0.76, by shape alone).
   double confident_score = 0.8;
-  // Views aligned per candidate: the ones nearest to it by signature_distance() (registration.hpp),
-  // with the nearest view of a second object when they all show one, so that there is a
-  // runner-up [extension, docs/method.md "A database that scales"]; 0 = every view (the paper).
-  int shortlist = 16;
+  // Views aligned per candidate: the ones nearest to it by signature (view_distance(), or
+  // signature_distance() without shortlist_parts; registration.hpp), with the nearest view of a
+  // second object when they all show one, so that there is a runner-up [extension,
+  // docs/method.md "A database that scales"]; 0 = every view (the paper).
+  int shortlist = 24;
+  // Compare the candidate also with the signatures of parts of each view (the view without the
+  // points near one of several centres, as an occlusion leaves it), nearest of them counting, so
+  // that a partly hidden object still finds its views.
+  bool shortlist_parts = true;
   // Views aligned per split or merge trial of recognize_scene(), among the views of the objects
   // the trial concerns (nearest by signature); 0 = all of those objects' views.
   int trial_shortlist = 4;
@@ -81,15 +86,16 @@ struct Match {
   int view = -1;                                       // index into Database::views
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
   double fitness = 0, coverage = 0, score = 0, rmse = 0;
-  double colour = 1;      // Alignment::colour
+  double rank = 0;    // rank_of(): the score allowing for an occlusion, which chose the best view
+  double colour = 1;  // Alignment::colour
   double free_space = 0;  // Alignment::free_space
 };
 
 struct Recognition {
   std::string
-      name;  // best.object, or "unknown" (under min_score, or min_margin when not confident)
-  Match best;
-  Match runner_up;                    // the best view of any other object
+      name;         // best.object, or "unknown" (under min_score, or min_margin when not confident)
+  Match best;       // the view of the best rank (Match::rank)
+  Match runner_up;  // the best-scoring view (Match::score) of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
   int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
   double align_ms = 0;                // wall time over all views
@@ -97,17 +103,23 @@ struct Recognition {
                            // recognize(), which is given it described)
 };
 
+// The score of an alignment (Score); what the minimum score, the margin and the confident score
+// judge.
 double score_of(const Alignment& a, Score score);
+// The same with Alignment::occluded_coverage for coverage: what ranks the views, allowing for an
+// occlusion [extension, docs/method.md "A database that scales"].
+double rank_of(const Alignment& a, Score score);
 
 // Describes the candidate's points (sensor frame; sensor at the origin) like the database views,
 // with their colours when given (one per point).
 Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Database& db,
                          const std::vector<Rgb>* colours = nullptr);
 // The views recognize() aligns: those of `objects` (every object when empty), the `shortlist`
-// nearest to the candidate by signature (all when 0), nearest first, and the nearest view of
+// nearest to the candidate by signature (all when 0; with `parts`, by view_distance(), the
+// nearest of each view's signature and its parts' ones), nearest first, and the nearest view of
 // another object when those show only one.
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
-                                 const std::vector<std::string>& objects = {});
+                                 const std::vector<std::string>& objects = {}, bool parts = true);
 // Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
 // With `scene` (the frame's depth image; recognize_scene() passes it when free_space_tolerance >
 // 0), every alignment is also checked against the sensor's free space.

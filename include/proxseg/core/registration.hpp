@@ -56,6 +56,13 @@ struct RegistrationParams {
   // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
   // that a box face is not explained by the flat top of a can of about the same size.
   double score_distance = 0.005;
+  // Weight of the visible view points that fall outside the candidate's silhouette in the
+  // coverage that ranks the views (Alignment::occluded_coverage) [extension, docs/method.md "A
+  // database that scales"]: an occlusion removes a region of the object that its model still
+  // predicts, and nothing in a candidate tells that region hidden from absent. The score that
+  // the minimum score, the margin and the confident score judge keeps every visible point
+  // (Alignment::coverage). 1 = no allowance (the ranking before).
+  double coverage_outside_weight = 0.5;
   ColourCompare colour_compare = ColourCompare::kPoints;
   // Colour during alignment [extension]: the RANSAC hypotheses and the ICP starts are ranked by
   // their overlap x the colour agreement of the explained points (when both clouds have colour),
@@ -77,11 +84,19 @@ struct Signature {
   Eigen::VectorXf shape;   // mean FPFH over the points, each radius block normalised to sum 1
   Eigen::VectorXf colour;  // chromaticity histogram, sums to 1; empty when the cloud has no colour
   double spread = 0;       // root mean square distance of the points to their centroid, metres
+  // The same for parts of the cloud: the cloud without the points nearest to one of several
+  // centres, as an occlusion would leave it (make_signature() in registration.cpp); their own
+  // parts empty.
+  std::vector<Signature> parts;
 };
 // Distance of two signatures: the L1 distances of the shape and colour histograms (each in
 // [0, 1]; the colour term is left out when either has no colour) plus |log| of the spreads'
 // ratio. 0 for equal signatures.
 double signature_distance(const Signature& a, const Signature& b);
+// How far a candidate is from a database view for the shortlist: the least signature_distance()
+// to the view's signature or to one of its parts, so that a partly hidden object is near the
+// views it is part of.
+double view_distance(const Signature& candidate, const Signature& view);
 
 // A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
 // its viewpoint, FPFH features (one column per point) and search indexes.
@@ -130,7 +145,10 @@ struct Alignment {
   double close_fitness = 0;  // the same within score_distance
   double coverage = 0;       // share of the view's points visible from the candidate's viewpoint
                              // that have a candidate point within score_distance (model-side term)
-  double rmse = 0;           // of the fitness inliers
+  // The same with the visible view points outside the candidate's silhouette weighed by
+  // coverage_outside_weight: allowing for an occlusion, for ranking the views.
+  double occluded_coverage = 0;
+  double rmse = 0;  // of the fitness inliers
   // Colour agreement of the close_fitness inliers with the view points that explain them, in
   // [0, 1] (colour_agreement()); 1 and coloured = false when either cloud has no colour.
   double colour = 1;
@@ -161,16 +179,27 @@ inline double symmetric_overlap(double fitness, double coverage) {
   return std::sqrt(fitness * coverage);
 }
 
-// The scores of a given pose (candidate <- model): fitness (eq. 5), close_fitness, coverage and
-// rmse, as align() scores its own result (used to judge other registrations the same way).
+// The scores of a given pose (candidate <- model): fitness (eq. 5), close_fitness, coverage,
+// occluded_coverage and rmse, as align() scores its own result (used to judge other
+// registrations the same way).
 Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                      const RegistrationParams& params);
 
 // Eq. 4-5 and the model-side term for a given pose (candidate <- model).
 double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
                double* rmse = nullptr);
+// coverage()'s counts: of the posed view's points visible from the candidate's viewpoint, those
+// inside and outside the candidate's silhouette (the coverage grid's cells that hold a candidate
+// point), and those with a candidate point within delta.
+struct CoverageCounts {
+  int inside = 0, outside = 0, explained = 0;
+};
+CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
+                               const Eigen::Matrix4d& pose, double delta);
+// explained / (inside + outside_weight x outside), at most 1; outside_weight 1 (the model-side
+// term of the score as it was) needs no silhouette.
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
-                double delta);
+                double delta, double outside_weight = 1);
 // The colour term [extension, docs/method.md "Colour in recognition"]: the mean agreement, over
 // the candidate points within delta of the posed view, of their chromaticity with that of the
 // nearest view point (chromaticity_agreement()); 1 when either cloud has no colour.
