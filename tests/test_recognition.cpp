@@ -255,6 +255,7 @@ OccludedView occluded_driller() {
     seen.push_back(truth * model.back());
   }
   o.view = describe(model, views[1].eye, DescriptorParams{});
+  add_part_signatures(o.view);
   o.whole = describe(seen, Eigen::Vector3d::Zero(), DescriptorParams{});
   for (std::uint64_t seed = 1;; ++seed) {
     const Occlusion c = occlude(seen, 0.2, seed);
@@ -314,6 +315,12 @@ TEST(Recognition, PartSignaturesBringAnOccludedViewNearItsOwn) {
   EXPECT_LT(d_parts, 0.8 * d_whole) << d_parts << " " << d_whole;
   EXPECT_LE(view_distance(o.whole.signature, o.view.signature),
             signature_distance(o.whole.signature, o.view.signature));
+  // Candidates have no parts (only database views do), and views get them again on demand.
+  EXPECT_TRUE(o.occluded.signature.parts.empty());
+  Cloud again = o.view;
+  add_part_signatures(again);
+  ASSERT_EQ(again.signature.parts.size(), 24u);
+  EXPECT_EQ(again.signature.parts[5].shape, o.view.signature.parts[5].shape);
 }
 
 // Views are ranked allowing for the occlusion (Match::rank) and the answer judged on the score.
@@ -498,6 +505,48 @@ TEST(Recognition, NamesTheMilkCartonInTheRealScene) {
   }
   EXPECT_EQ(named_milk, 1);  // the carton, and nothing else
   EXPECT_GE(best_milk, 0.9);
+}
+
+// Merge (RecognitionParams::merge_unnamed): the driller cut by the selection into two strips,
+// each too little of it to be named, whose best views both show the driller; together they are.
+TEST(Recognition, MergeJoinsTwoUnnamedPiecesOfOneObject) {
+  Database db = open_database(fresh_dir("db_merge"), DescriptorParams{});
+  add_linemod(db, 4);
+  const Mesh driller = read_mesh(kData + "/lmo/models/obj_000008.ply", 0.001);
+  RenderParams rp;
+  rp.camera_from_world = look_at({0.1, -0.45, 0.55}, {0, 0, 0});
+  const Frame frame = render({driller}, rp);
+  // Two strips of columns side by side, each 15 % of the driller's points; the rest of it
+  // belongs to no candidate.
+  std::vector<int> valid;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) valid.push_back(static_cast<int>(i));
+  std::stable_sort(valid.begin(), valid.end(),
+                   [&](int a, int b) { return a % frame.width < b % frame.width; });
+  Selection selection;
+  selection.instance.assign(frame.size(), 0);
+  const std::size_t strip = valid.size() * 3 / 20;
+  for (int c = 0; c < 2; ++c) {
+    Candidate k;
+    k.instance = c + 1;
+    k.points.assign(valid.begin() + (2 + c) * strip, valid.begin() + (3 + c) * strip);
+    std::sort(k.points.begin(), k.points.end());
+    for (int i : k.points) selection.instance[i] = k.instance;
+    selection.components.push_back(k);
+  }
+  RecognitionParams apart;
+  apart.merge_unnamed = false;
+  const std::vector<SceneObject> pieces = recognize_scene(frame, selection, db, apart);
+  ASSERT_EQ(pieces.size(), 2u);
+  for (const SceneObject& o : pieces) {
+    EXPECT_EQ(o.recognition.name, "unknown") << o.recognition.best.score;
+    EXPECT_EQ(o.recognition.best.object, "driller");
+  }
+  const std::vector<SceneObject> joined = recognize_scene(frame, selection, db, {});
+  ASSERT_EQ(joined.size(), 1u);
+  EXPECT_EQ(joined[0].origin, SceneObject::Origin::kMerged);
+  EXPECT_EQ(joined[0].recognition.name, "driller") << joined[0].recognition.best.score;
+  EXPECT_EQ(joined[0].points.size(), 2 * strip);
 }
 
 // Unknown objects: with a database of the milk carton alone, the carton is named and every other

@@ -358,10 +358,18 @@ SceneObject united(const Piece& a, const Piece& b) {
   return u;
 }
 
+// Whether two pieces' best views show one object (named or not): the two halves of an object
+// that the selection cut in two, each too little of it to be named.
+bool leans_to_one_object(const Piece& a, const Piece& b) {
+  const Match &x = a.object.recognition.best, &y = b.object.recognition.best;
+  return x.view >= 0 && y.view >= 0 && x.object == y.object;
+}
+
 // Merge: the best-scoring union of two near pieces that beats both parts, until none does.
-// A union is tried against the objects its parts are named after: it can only beat a part
-// as one of them. Unions are recognised once: a piece is known by its first point and its size
-// (pieces are disjoint, and a merged piece is larger than both of its parts).
+// A union is tried against the objects its parts are named after (two unnamed parts, with
+// merge_unnamed: the one object both lean to): it can only beat a part as one of them. Unions are
+// recognised once: a piece is known by its first point and its size (pieces are disjoint, and a
+// merged piece is larger than both of its parts).
 std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser& recognise) {
   using Key = std::array<std::size_t, 4>;
   const auto key_of = [](const Piece& a, const Piece& b) {
@@ -377,13 +385,15 @@ std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser
     for (std::size_t i = 0; i < pieces.size(); ++i)
       for (std::size_t j = i + 1; j < pieces.size(); ++j) {
         const Piece &a = pieces[i], &b = pieces[j];
-        if ((!named(a) && !named(b)) || !near(a, b, recognise.params.merge_distance)) continue;
+        const bool same_lean = recognise.params.merge_unnamed && leans_to_one_object(a, b);
+        if ((!named(a) && !named(b) && !same_lean) || !near(a, b, recognise.params.merge_distance))
+          continue;
         const Key key = key_of(a, b);
         auto it = tried.find(key);
         if (it == tried.end()) {
           std::vector<std::string> objects;
           for (const Piece* part : {&a, &b})
-            if (named(*part)) objects.push_back(part->object.recognition.best.object);
+            if (named(*part) || same_lean) objects.push_back(part->object.recognition.best.object);
           Cloud both = joined(a.cloud, b.cloud);
           Piece p;
           if (!recognise(united(a, b), p, objects, &both)) continue;

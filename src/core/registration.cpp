@@ -165,19 +165,25 @@ Signature signature_of(const Cloud& c, const std::vector<int>* keep) {
   return s;
 }
 
-// The signature of the whole cloud and of the parts an occlusion would leave of it
-// [extension, docs/method.md "A database that scales"]: the paper's occlusions (and an object in
-// front) hide the points near some point of the view, which moves the mean FPFH and shrinks the
-// spread, so the whole view's signature is far from what is left of it. Each part is the cloud
-// without the share kPartShares of its points nearest to a centre; the kPartCentres centres are
-// spread over the cloud by farthest-point sampling from the point farthest from the centroid.
-constexpr int kPartCentres = 8;
-constexpr double kPartShares[] = {0.15, 0.3, 0.45};
-
 Signature make_signature(const Cloud& c) {
-  Signature s = signature_of(c, nullptr);
+  return signature_of(c, nullptr);
+}
+
+}  // namespace
+
+// The parts an occlusion would leave of a view [extension, docs/method.md "A database that
+// scales"]: the paper's occlusions (and an object in front) hide the points near some point of
+// the view, which moves the mean FPFH and shrinks the spread, so the whole view's signature is far
+// from what is left of it. Each part is the cloud without the share kPartShares of its points
+// nearest to a centre; the kPartCentres centres are spread over the cloud by farthest-point
+// sampling from the point farthest from the centroid.
+void add_part_signatures(Cloud& c) {
+  constexpr int kPartCentres = 8;
+  constexpr double kPartShares[] = {0.15, 0.3, 0.45};
+  Signature& s = c.signature;
+  s.parts.clear();
   const int n = static_cast<int>(c.size());
-  if (n < 2 * kPartCentres) return s;
+  if (n < 2 * kPartCentres) return;
   std::vector<int> centres;
   int first = 0;
   for (int i = 1; i < n; ++i)
@@ -205,8 +211,9 @@ Signature make_signature(const Cloud& c) {
       s.parts.push_back(signature_of(c, &keep));
     }
   }
-  return s;
 }
+
+namespace {
 
 std::shared_ptr<const SearchIndex> build_index(const Cloud& c) {
   auto index = std::make_shared<SearchIndex>();
@@ -324,18 +331,23 @@ struct Hypothesis {
   double overlap = 0;
 };
 
-bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance) {
-  const Eigen::Matrix3d dr = a.topLeftCorner<3, 3>().transpose() * b.topLeftCorner<3, 3>();
-  return Eigen::AngleAxisd(dr).angle() < 0.1 &&
-         (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm() < distance;
-}
-
 // chromaticity_agreement(), times the brightness term when brightness_sigma > 0.
 double point_agreement(const Rgb& a, const Rgb& b, double brightness_sigma) {
   const double c = chromaticity_agreement(a, b);
   if (!(brightness_sigma > 0)) return c;
   const double ratio = std::log((a[0] + a[1] + a[2] + 3.0) / (b[0] + b[1] + b[2] + 3.0));
   return c * std::exp(-0.5 * ratio * ratio / (brightness_sigma * brightness_sigma));
+}
+
+// Two poses within 0.1 rad and `distance` of each other. The angle of the relative rotation R
+// is compared through its trace (1 + 2 cos angle), without the trigonometry of an angle-axis:
+// RANSAC asks this of every hypothesis against each one it keeps.
+bool similar(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double distance) {
+  constexpr double kMinTrace = 2.9900083305560516;  // 1 + 2 cos(0.1)
+  if ((a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).squaredNorm() >= distance * distance)
+    return false;
+  const double trace = (a.topLeftCorner<3, 3>().array() * b.topLeftCorner<3, 3>().array()).sum();
+  return trace > kMinTrace;
 }
 
 // fitness() within delta, and in `colour` the mean chromaticity agreement of the explained
@@ -359,18 +371,17 @@ double explained_colour(const Cloud& cand, const Cloud& view, const Eigen::Matri
 // Judges hypotheses like the recognition score, best first: the share of the candidate the view
 // explains and the share of the visible view the candidate explains (a box turned by 90 degrees
 // can explain the candidate as well as the right pose, but not be explained by it). Only the best
-// icp_starts go on to ICP, and sqrt(fitness) bounds the overlap, so coverage (the dearer half) is
-// computed in order of fitness only while a hypothesis can still enter them; the others keep
-// overlap -1 and sort last, in their order.
+// icp_starts go on to ICP, and sqrt(fitness) bounds the overlap (times a colour agreement of at
+// most 1), so coverage and the colour agreement (the dearer parts) are computed in order of
+// fitness only while a hypothesis can still enter them; the others keep overlap -1 and sort
+// last, in their order.
 void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
            const RegistrationParams& p) {
-  std::vector<double> fit(top.size()), agree(top.size(), 1.0);
+  std::vector<double> fit(top.size());
   const bool coloured = p.colour_alignment && !cand.colours.empty() && !view.colours.empty();
   for (std::size_t k = 0; k < top.size(); ++k) {
     top[k].overlap = -1;
-    fit[k] = coloured ? explained_colour(cand, view, top[k].pose, p.ransac_distance,
-                                         p.brightness_sigma, agree[k])
-                      : fitness(cand, view, top[k].pose, p.ransac_distance);
+    fit[k] = fitness(cand, view, top[k].pose, p.ransac_distance);
   }
   std::vector<std::size_t> order(top.size());
   std::iota(order.begin(), order.end(), 0);
@@ -380,8 +391,12 @@ void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
   std::vector<double> best;  // the largest overlaps so far, descending, at most `kept`
   for (std::size_t k : order) {
     if (best.size() == kept && std::sqrt(fit[k]) < best.back()) break;
+    // The colour agreement (at most 1) only for the hypotheses judged: the same bound holds.
+    double agree = 1;
+    if (coloured)
+      explained_colour(cand, view, top[k].pose, p.ransac_distance, p.brightness_sigma, agree);
     top[k].overlap =
-        symmetric_overlap(fit[k], coverage(cand, view, top[k].pose, p.ransac_distance)) * agree[k];
+        symmetric_overlap(fit[k], coverage(cand, view, top[k].pose, p.ransac_distance)) * agree;
     best.insert(std::upper_bound(best.begin(), best.end(), top[k].overlap, std::greater<>()),
                 top[k].overlap);
     if (best.size() > kept) best.pop_back();
@@ -520,9 +535,11 @@ Eigen::Matrix4d icp(const Cloud& cand, const Cloud& view, Eigen::Matrix4d pose,
     const Eigen::Matrix4d step =
         p.point_to_plane ? point_to_plane(src, dst, nrm) : kabsch(src, dst);
     inv = step * inv;
-    const double angle = Eigen::AngleAxisd(Eigen::Matrix3d(step.topLeftCorner<3, 3>())).angle();
-    // Converged: a step under 0.1 mm and 0.06 degrees changes no score at 5 mm.
-    if (angle < 1e-3 && step.topRightCorner<3, 1>().norm() < 1e-4) break;
+    // Converged: a step under 0.1 mm and 0.06 degrees (1e-3 rad: its rotation's trace, 1 + 2 cos
+    // angle, above 1 + 2 cos 1e-3) changes no score at 5 mm.
+    if (step.topLeftCorner<3, 3>().trace() > 2.999999000000083 &&
+        step.topRightCorner<3, 1>().norm() < 1e-4)
+      break;
   }
   return inv.inverse();
 }

@@ -433,6 +433,7 @@ Database captured_database(const SceneCatalogue& catalogue, const CaptureParams&
       v.source =
           object.name + " view " + std::to_string(i + 1) + "/" + std::to_string(capture.views);
       v.cloud = describe(points, eye, descriptor, &colours);
+      add_part_signatures(v.cloud);
       db.views.push_back(std::move(v));
     }
   }

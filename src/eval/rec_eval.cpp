@@ -99,6 +99,7 @@ Database render_database(const std::vector<TestObject>& objects, int views,
       const std::vector<Rgb>& rgb = rendered[i].points.rgb;
       v.cloud = describe(points, rendered[i].eye, descriptor,
                          rgb.size() == points.size() ? &rgb : nullptr);
+      add_part_signatures(v.cloud);
       db.views.push_back(std::move(v));
     }
   }

@@ -236,6 +236,7 @@ Database load_database(const std::string& dir) {
       if (points.size() != f.size()) fail(pcd, "has invalid points (expected a filtered view)");
       mv.cloud = read_cache((fs::path(dir) / mv.features).string(), std::move(points),
                             view_colours(where, v, f), 33 * db.descriptor.fpfh_radii.size());
+      add_part_signatures(mv.cloud);
       db.views.push_back(std::move(mv));
     }
   }
@@ -292,6 +293,7 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   const bool coloured = points.rgb.size() == points.size() && informative(colours);
   v.cloud = describe_filtered(filtered, viewpoint, db.descriptor,
                               coloured ? colours : std::vector<Rgb>{});
+  add_part_signatures(v.cloud);
   int number = 0;
   for (const ModelView& w : db.views) number += w.object == object;
   std::string stem;

@@ -123,6 +123,7 @@ void recognition_fields(P& p, F&& f) {
   f("", "shortlist", p.shortlist);
   f("", "shortlist_parts", p.shortlist_parts);
   f("", "trial_shortlist", p.trial_shortlist);
+  f("", "merge_unnamed", p.merge_unnamed);
   f("", "early_exit", p.early_exit);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);

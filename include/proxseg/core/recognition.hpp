@@ -54,6 +54,7 @@ struct RecognitionParams {
   // Views aligned per split or merge trial of recognize_scene(), among the views of the objects
   // the trial concerns (nearest by signature); 0 = all of those objects' views.
   int trial_shortlist = 4;
+
   // > 0: stop after the first batch of views (8 at a time, nearest by signature first) in which
   // some view reached this score. Faster; may change the answer (a later view could score
   // higher). 0 = align every shortlisted view.
@@ -68,6 +69,9 @@ struct RecognitionParams {
   // named with a better score than either part become one (an object cut in two by a missing
   // rim or a shadow). 0 = off.
   double merge_distance = 0.03;
+  // Merge also two unnamed pieces whose best views show one object (an object cut in two, each
+  // half too little of it to be named); otherwise one of the two must be named.
+  bool merge_unnamed = true;
   int min_part_points = 500;  // points of the frame
   // Scenes [extension, docs/method.md "Recognition that generalises"]: a view put where the
   // sensor saw through it is not the object. Scores are multiplied by 1 - the share of the

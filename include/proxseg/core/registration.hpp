@@ -85,8 +85,8 @@ struct Signature {
   Eigen::VectorXf colour;  // chromaticity histogram, sums to 1; empty when the cloud has no colour
   double spread = 0;       // root mean square distance of the points to their centroid, metres
   // The same for parts of the cloud: the cloud without the points nearest to one of several
-  // centres, as an occlusion would leave it (make_signature() in registration.cpp); their own
-  // parts empty.
+  // centres, as an occlusion would leave it (add_part_signatures()); their own parts empty.
+  // Database views only: a candidate is compared with them, not they with it.
   std::vector<Signature> parts;
 };
 // Distance of two signatures: the L1 distances of the shape and colour histograms (each in
@@ -137,6 +137,11 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
 Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
               Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint,
               std::vector<Rgb> colours = {});
+// Fills the view's Signature::parts: 24 parts, each the view without the 15, 30 or 45 % of its
+// points nearest to one of 8 centres spread over it (farthest-point sampling); none for a view of
+// under 16 points. What a view needs to enter a database (io add_view() and load_database(),
+// captured_database(), rec_eval's databases call it); describe() and restore() leave parts empty.
+void add_part_signatures(Cloud& view);
 
 // The result of aligning one model view to one candidate.
 struct Alignment {
