@@ -866,3 +866,33 @@ TEST(Visibility, ViewInFrontOfTheMeasuredDepthViolatesFreeSpace) {
   // An unorganized frame has no depth image: the check says nothing.
   EXPECT_TRUE(depth_image(frame_of(points)).empty());
 }
+
+// A candidate cut by the image's border goes on past it: a model that ends inside the image is
+// not what it is, one that explains it up to the border may be (border_unexplained()).
+TEST(Visibility, CandidateCutByTheBorderMustBeExplainedUpToIt) {
+  // A plank 60 cm long at 0.8 m, its left end past the image's left border.
+  const Eigen::Isometry3d pose(Eigen::Translation3d(-0.4, 0.05, 0.8));
+  const Mesh plank = make_box(pose, {0.6, 0.03, 0.02}, [](const Eigen::Vector3d&) {
+    return Rgb{40, 40, 45};
+  });
+  RenderParams rp;
+  const Frame frame = render({plank}, rp);
+  const DepthImage image = depth_image(frame);
+  ASSERT_FALSE(image.empty());
+  std::vector<Eigen::Vector3d> points, inner;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) {
+      points.push_back(frame.xyz[i].cast<double>());
+      if (points.back().x() > -0.3) inner.push_back(points.back());
+    }
+  const Cloud candidate = describe(points, Eigen::Vector3d::Zero(), DescriptorParams{});
+  const Cloud piece = describe(inner, Eigen::Vector3d::Zero(), DescriptorParams{});
+  const Eigen::Matrix4d in_place = Eigen::Matrix4d::Identity();
+  const double delta = RegistrationParams{}.fitness_distance;
+  // The whole plank explains its border points; a 20 cm piece of it in the middle does not.
+  EXPECT_LT(border_unexplained(image, candidate, candidate, in_place, delta), 0.05);
+  EXPECT_GT(border_unexplained(image, candidate, piece, in_place, delta), 0.95);
+  // A candidate away from the border: nothing to check.
+  EXPECT_EQ(border_unexplained(image, piece, candidate, in_place, delta), 0.0);
+  EXPECT_EQ(border_unexplained(DepthImage{}, candidate, piece, in_place, delta), 0.0);
+}

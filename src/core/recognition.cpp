@@ -29,7 +29,7 @@ constexpr int kBatch = 8;  // views per early-exit check; fixed, so answers do n
 namespace {
 
 double score_with(const Alignment& a, Score score, double coverage) {
-  const double seen = 1 - a.free_space;
+  const double seen = (1 - a.free_space) * (1 - a.border_unexplained);
   switch (score) {
     case Score::kFitness:
       return a.fitness;
@@ -107,9 +107,13 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
       const int v = views[k];
       r.alignments[v] = align(candidate, sample, db.views[v].cloud, params.registration,
                               mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
-      if (scene && params.free_space_tolerance > 0)
-        r.alignments[v].free_space = free_space_violation(
-            *scene, db.views[v].cloud, r.alignments[v].pose, params.free_space_tolerance);
+      if (scene && params.free_space_tolerance > 0) {
+        Alignment& a = r.alignments[v];
+        a.free_space =
+            free_space_violation(*scene, db.views[v].cloud, a.pose, params.free_space_tolerance);
+        a.border_unexplained = border_unexplained(*scene, candidate, db.views[v].cloud, a.pose,
+                                                  params.registration.fitness_distance);
+      }
       done[v] = 1;
     }
     r.views_aligned = end;

@@ -2,6 +2,7 @@
 #include <proxseg/core/visibility.hpp>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 namespace proxseg {
@@ -70,6 +71,24 @@ double free_space_violation(const DepthImage& image, const Cloud& view, const Ei
     through += measured > q.z() + tolerance + slope * q.z() * q.z();
   }
   return seen ? double(through) / seen : 0;
+}
+
+double border_unexplained(const DepthImage& image, const Cloud& candidate, const Cloud& view,
+                          const Eigen::Matrix4d& pose, double delta) {
+  constexpr int kMinPoints = 5;  // fewer: a corner grazing the border, not a cut
+  if (image.empty()) return 0;
+  std::vector<Eigen::Vector3d> border;
+  for (const Eigen::Vector3d& p : candidate.points) {
+    if (!(p.z() > 0)) continue;
+    // One point spacing in pixels at this depth: the voxel filter moves points that far inwards.
+    const double reach = std::max(1.0, image.fx * candidate.spacing / p.z());
+    const double u = image.fx * p.x() / p.z() + image.cx, v = image.fy * p.y() / p.z() + image.cy;
+    if (u < reach || v < reach || u > image.width - 1 - reach || v > image.height - 1 - reach)
+      border.push_back(p);
+  }
+  if (static_cast<int>(border.size()) < kMinPoints) return 0;
+  const std::vector<char> in = explained(border, view, pose, delta);
+  return 1.0 - double(std::count(in.begin(), in.end(), 1)) / border.size();
 }
 
 }  // namespace proxseg

@@ -161,6 +161,9 @@ struct Alignment {
   // Share of the posed view's sensor-facing points that lie in front of what the sensor saw
   // (free_space_violation(), visibility.hpp); 0 when recognition has no depth image.
   double free_space = 0;
+  // The share of the candidate's points at the image border that this view does not explain
+  // (border_unexplained(), visibility.hpp); 0 when recognition has no depth image.
+  double border_unexplained = 0;
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };

@@ -32,4 +32,13 @@ DepthImage depth_image(const Frame& frame);
 double free_space_violation(const DepthImage& image, const Cloud& view, const Eigen::Matrix4d& pose,
                             double tolerance, double slope = 0.005);
 
+// Of the candidate's points (sensor frame) that lie within one point spacing of the image's
+// border, the share that the view put in place by pose (sensor <- model) does not explain within
+// delta; 0 when fewer than 5 lie there. A candidate cut by the border goes on past it: a model
+// that ends inside the image while the candidate runs on to the border (a marker laid on the
+// edge of a monitor that the image cuts) is not what the candidate is; a model that explains
+// the candidate up to the border may be.
+double border_unexplained(const DepthImage& image, const Cloud& candidate, const Cloud& view,
+                          const Eigen::Matrix4d& pose, double delta);
+
 }  // namespace proxseg
