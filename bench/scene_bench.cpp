@@ -165,9 +165,9 @@ std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labe
 // The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
 // Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
 // (rec_bench's peer), the poses scored and the candidate named exactly as proxseg::recognize
-// does (same score with the candidate's colours, ties to the earlier view, same min_score and
-// min_margin). A cluster too small to describe
-// is not made, as recognize_scene() does with such candidates.
+// does (same score with the candidate's colours, ties to the earlier view, names_best() with the
+// same parameters). A cluster too small to describe is not made, as recognize_scene() does with
+// such candidates.
 std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
                                    const proxseg::peers::Open3dPeer& open3d,
                                    const proxseg::RecognitionParams& rp, int threads) {
@@ -217,8 +217,7 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
           proxseg::score_pose(c, db.views[best].cloud, aligned[best].pose, rp.registration);
       p.colour = a.coloured ? a.colour : -1;
     }
-    const bool clear = p.score - p.runner_up >= rp.min_margin || p.score >= rp.confident_score;
-    p.name = best >= 0 && p.score >= rp.min_score && clear ? p.best : "unknown";
+    p.name = best >= 0 && proxseg::names_best(p.score, p.runner_up, rp) ? p.best : "unknown";
     out.push_back(std::move(p));
   }
   return out;
@@ -334,8 +333,7 @@ int run(const Options& o) {
   if (!o.config.empty()) std::tie(sp, rp) = proxseg::read_recognize_params(o.config, sp, rp);
   sp.threads = rp.threads = o.threads;
   proxseg::validate(sp);
-  // The curves move min_score and keep the margin rule.
-  const double margin = rp.min_margin, confident = rp.confident_score;
+  // The curves move min_score and keep the rest of the naming rule (rp).
   proxseg::validate(rp);
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const int team = o.threads > 0 ? o.threads : omp_get_max_threads();
@@ -540,7 +538,7 @@ int run(const Options& o) {
      << o.peer_ransac / 1000
      << "k + ICP (rec_bench's peer, 100k there; fewer here, as every cluster meets every "
         "view); its poses are scored and the candidate named exactly as proxseg names (same "
-        "score, same min score, margin and confident score).\n\n"
+        "score, same naming rule).\n\n"
      << "Measures (docs/metrics.md, \"Scenes\"): truth objects and predictions are matched by "
         "the assignment of largest total point IoU among pairs with IoU >= 0.5; detection = "
         "matched truths / truths. TP: a known truth whose match carries its name; FN: the other "
@@ -579,15 +577,13 @@ int run(const Options& o) {
       row(methods[mi].label, c);
       nlohmann::json jm = {{"label", methods[mi].label}, {"counts", counts_json(c)}};
       jm["curve"] = nlohmann::json::array();
-      for (const SceneCurvePoint& p :
-           proxseg::scene_curve(r.rows, c.known, c.unknown, margin, confident))
+      for (const SceneCurvePoint& p : proxseg::scene_curve(r.rows, c.known, c.unknown, rp))
         jm["curve"].push_back(point_json(p));
       jm["at"] = nlohmann::json::array();
       for (double t : thresholds)
-        jm["at"].push_back(
-            point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t, margin, confident)));
-      jm["best_threshold"] = point_json(proxseg::best_threshold(
-          proxseg::scene_curve(r.rows, c.known, c.unknown, margin, confident), 0.1));
+        jm["at"].push_back(point_json(proxseg::scene_point(r.rows, c.known, c.unknown, t, rp)));
+      jm["best_threshold"] = point_json(
+          proxseg::best_threshold(proxseg::scene_curve(r.rows, c.known, c.unknown, rp), 0.1));
       js["methods"].push_back(jm);
     }
     md << "\n";
@@ -621,7 +617,7 @@ int run(const Options& o) {
       const Result& r = grouped[gi][mi];
       for (double t : thresholds) {
         const SceneCurvePoint p =
-            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, margin, confident);
+            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, t, rp);
         md << "| " << methods[mi].label << " | " << groups[gi] << " | " << fmt(t, 2) << " | "
            << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | " << fmt(p.precision, 3)
            << " | " << fmt(p.f1, 3) << " |\n";
@@ -646,13 +642,13 @@ int run(const Options& o) {
     for (std::size_t mi = 0; mi < methods.size(); ++mi) {
       const Result& d = grouped[ci][mi];
       const SceneCurvePoint best = proxseg::best_threshold(
-          proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, margin, confident), 0.1);
+          proxseg::scene_curve(d.rows, d.counts.known, d.counts.unknown, rp), 0.1);
       nlohmann::json jc = {
           {"label", methods[mi].label}, {"chosen_on", groups[ci]}, {"min_score", best.min_score}};
       for (std::size_t gi = 0; gi < groups.size(); ++gi) {
         const Result& r = grouped[gi][mi];
-        const SceneCurvePoint p = proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown,
-                                                       best.min_score, margin, confident);
+        const SceneCurvePoint p =
+            proxseg::scene_point(r.rows, r.counts.known, r.counts.unknown, best.min_score, rp);
         md << "| " << methods[mi].label << " | " << groups[gi] << " | " << fmt(best.min_score, 3)
            << " | " << fmt(p.tpr, 3) << " | " << pct(p.unknown_named_share) << " | "
            << fmt(p.precision, 3) << " | " << fmt(p.f1, 3) << " |\n";

@@ -63,7 +63,7 @@ TEST(RecBench, ReducedRunMeetsTheFloors) {
   }
   EXPECT_GE(right / in_bins, 0.85) << sets;
   EXPECT_EQ(s["parameters"]["test_set"]["tests"], n);
-  EXPECT_EQ(s["parameters"]["recognition"]["min_score"], 0.5);
+  EXPECT_EQ(s["parameters"]["recognition"]["min_score"], 0.55);
   // The other outputs: one CSV line per answer, the curves, the report.
   const std::string csv = slurp(o / "tests.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * n);

@@ -235,14 +235,21 @@ TEST(SceneEval, CurveKeepsTheMarginRule) {
   SceneEvaluation e = evaluate_scene(1, c.truths, c.predictions, c.catalogue);
   // Every answer has a runner-up 0.1 behind it: a margin of 0.15 leaves all "unknown" ...
   for (PredictionRow& r : e.rows) r.runner_up = r.score - 0.1;
-  const SceneCurvePoint strict = scene_point(e.rows, 2, 2, 0.2, 0.15);
+  // The rule of recognize(): a margin and a confident score.
+  auto rule = [](double margin, double confident = 1) {
+    proxseg::RecognitionParams r = proxseg::threshold_rule();
+    r.min_margin = margin;
+    r.confident_score = confident;
+    return r;
+  };
+  const SceneCurvePoint strict = scene_point(e.rows, 2, 2, 0.2, rule(0.15));
   EXPECT_EQ(strict.tp + strict.fp, 0);
   // ... unless the score reaches the confident score (the duck's 0.9 and the 0.7 answer).
-  const SceneCurvePoint confident = scene_point(e.rows, 2, 2, 0.2, 0.15, 0.7);
+  const SceneCurvePoint confident = scene_point(e.rows, 2, 2, 0.2, rule(0.15, 0.7));
   EXPECT_EQ(confident.tp, 1);
   EXPECT_EQ(confident.tp + confident.fp, 2);
   // A margin the runner-ups leave: the same as without one.
-  const SceneCurvePoint loose = scene_point(e.rows, 2, 2, 0.2, 0.05);
+  const SceneCurvePoint loose = scene_point(e.rows, 2, 2, 0.2, rule(0.05));
   const SceneCurvePoint none = scene_point(e.rows, 2, 2, 0.2);
   EXPECT_EQ(loose.tp, none.tp);
   EXPECT_EQ(loose.fp, none.fp);

@@ -108,6 +108,8 @@ void validate(const SegmentParams& p) {
           ">= 0");
   require(finite(sp.plane_band_min) && sp.plane_band_min >= 0, "selection.plane_band_min",
           ">= 0 metres");
+  require(finite(sp.plane_flat_sigmas) && sp.plane_flat_sigmas >= 0, "selection.plane_flat_sigmas",
+          ">= 0");
   require(sp.merge_window >= 1 && sp.merge_window <= 32, "selection.merge_window", "1..32 pixels");
   require(sp.merge_min_links >= 1, "selection.merge_min_links", ">= 1");
   require(sp.bridge_window >= 0 && sp.bridge_window <= 64, "selection.bridge_window",

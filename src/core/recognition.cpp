@@ -44,6 +44,11 @@ double score_with(const Alignment& a, Score score, double coverage) {
 
 }  // namespace
 
+bool names_best(double score, double runner_up, const RecognitionParams& params) {
+  const bool clear = score - runner_up >= params.min_margin || score >= params.confident_score;
+  return score >= params.min_score && clear;
+}
+
 double score_of(const Alignment& a, Score score) {
   return score_with(a, score, a.coverage);
 }
@@ -155,10 +160,9 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     const Match m = to_match(v);
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
-  const double margin = r.best.score - (r.runner_up.view >= 0 ? r.runner_up.score : 0.0);
-  const bool clear = margin >= params.min_margin || r.best.score >= params.confident_score;
+  const double runner_up = r.runner_up.view >= 0 ? r.runner_up.score : 0.0;
   r.name =
-      r.best.view >= 0 && r.best.score >= params.min_score && clear ? r.best.object : "unknown";
+      r.best.view >= 0 && names_best(r.best.score, runner_up, params) ? r.best.object : "unknown";
   return r;
 }
 

@@ -405,13 +405,21 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
   return e;
 }
 
+RecognitionParams threshold_rule() {
+  RecognitionParams rule;
+  rule.min_margin = 0;
+  rule.confident_score = 1;
+  return rule;
+}
+
 SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
-                            double min_score, double min_margin, double confident_score) {
+                            double min_score, const RecognitionParams& rule) {
   SceneCurvePoint p;
   p.min_score = min_score;
+  RecognitionParams at = rule;
+  at.min_score = min_score;
   for (const PredictionRow& r : rows) {
-    const bool clear = r.score - r.runner_up >= min_margin || r.score >= confident_score;
-    if (r.best.empty() || r.score < min_score || !clear) continue;  // "unknown" at this threshold
+    if (r.best.empty() || !names_best(r.score, r.runner_up, at)) continue;  // "unknown" here
     const bool right = r.truth >= 0 && r.truth_known && r.best == r.truth_name;
     (right ? p.tp : p.fp) += 1;
     p.unknown_named += r.truth >= 0 && !r.truth_known;
@@ -424,17 +432,15 @@ SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, i
 }
 
 std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
-                                         int unknown, double min_margin, double confident_score) {
+                                         int unknown, const RecognitionParams& rule) {
   std::vector<double> scores;
   for (const PredictionRow& r : rows)
     if (!r.best.empty()) scores.push_back(r.score);
   std::sort(scores.begin(), scores.end(), std::greater<double>());
   scores.erase(std::unique(scores.begin(), scores.end()), scores.end());
-  std::vector<SceneCurvePoint> curve = {scene_point(rows, known, unknown,
-                                                    scores.empty() ? 1.0 : scores.front() + 1e-9,
-                                                    min_margin, confident_score)};
-  for (double s : scores)
-    curve.push_back(scene_point(rows, known, unknown, s, min_margin, confident_score));
+  std::vector<SceneCurvePoint> curve = {
+      scene_point(rows, known, unknown, scores.empty() ? 1.0 : scores.front() + 1e-9, rule)};
+  for (double s : scores) curve.push_back(scene_point(rows, known, unknown, s, rule));
   return curve;
 }
 

@@ -86,6 +86,7 @@ void fields(P& p, F&& f) {
   f("selection", "sensor_noise_at_1m", p.selection.sensor_noise_at_1m);
   f("selection", "plane_band_sigmas", p.selection.plane_band_sigmas);
   f("selection", "plane_band_min", p.selection.plane_band_min);
+  f("selection", "plane_flat_sigmas", p.selection.plane_flat_sigmas);
   f("selection", "merge_window", p.selection.merge_window);
   f("selection", "merge_min_links", p.selection.merge_min_links);
   f("selection", "bridge_window", p.selection.bridge_window);

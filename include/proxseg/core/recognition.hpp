@@ -33,7 +33,7 @@ constexpr double kColourlessAgreement = 0.93;
 struct RecognitionParams {
   RegistrationParams registration;
   Score score = Score::kColour;
-  double min_score = 0.5;  // best score below it: "unknown"
+  double min_score = 0.55;  // best score below it: "unknown" (but see lone_score)
   // Best score minus the runner-up's (the best view of another object) below it: "unknown"
   // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
   // well, as happens for an object the database does not hold, which several models fit a bit.
@@ -96,16 +96,20 @@ struct Match {
 };
 
 struct Recognition {
-  std::string
-      name;         // best.object, or "unknown" (under min_score, or min_margin when not confident)
-  Match best;       // the view of the best rank (Match::rank)
-  Match runner_up;  // the best-scoring view (Match::score) of any other object
+  std::string name;                   // best.object, or "unknown" (names_best() false)
+  Match best;                         // the view of the best rank (Match::rank)
+  Match runner_up;                    // the best-scoring view (Match::score) of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
   int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
   double align_ms = 0;                // wall time over all views
   double describe_ms = 0;  // describing the candidate (recognize_object, recognize_scene; 0 from
                            // recognize(), which is given it described)
 };
+
+// Whether recognize() names the best view's object: score >= min_score and either score -
+// runner_up >= min_margin or score >= confident_score. runner_up: the best score of another
+// object, 0 when there is none.
+bool names_best(double score, double runner_up, const RecognitionParams& params);
 
 // The score of an alignment (Score); what the minimum score, the margin and the confident score
 // judge.

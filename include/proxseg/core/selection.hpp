@@ -62,6 +62,11 @@ struct SelectionParams {
   double sensor_noise_at_1m = 0.0025;  // metres
   double plane_band_sigmas = 3.0;
   double plane_band_min = 0.005;  // metres: the band is never narrower (surface roughness)
+  // kImage: the pixels of a candidate within plane_flat_sigmas standard deviations of the
+  // support plane are given to it at the end: the normals of the table beside an object are bent
+  // by the object over image_normal_step pixels, and that ring would otherwise stay with the
+  // object (as many table pixels as pen pixels around a pen lying on the table). 0 = keep it.
+  double plane_flat_sigmas = 1.0;
   // kImage, with merge_convex: components merge across gaps and short depth steps where their
   // points come within cluster_tolerance, linked by pixel pairs at most merge_window pixels
   // apart: at least merge_min_links links, at most merge_max_concave_share of them concave.

@@ -170,8 +170,8 @@ SceneEvaluation evaluate_scene(std::uint32_t scene, const std::vector<TruthObjec
                                const SceneCatalogue& catalogue, const SceneEvalParams& params = {});
 
 // The ROC with negatives: the rows' answers re-thresholded at min_score (a prediction is named
-// `best` when score >= min_score and either score - runner_up >= min_margin or score >=
-// confident_score, as recognize() names), with the matching kept.
+// `best` when names_best() says so under `rule` with its min_score replaced, as recognize()
+// names), with the matching kept.
 struct SceneCurvePoint {
   double min_score = 0;
   int tp = 0, fp = 0, unknown_named = 0;
@@ -180,12 +180,14 @@ struct SceneCurvePoint {
   double precision = 1;            // tp / (tp + fp); 1 when nothing is named
   double f1 = 0;
 };
+// The rule of a bare minimum score: no margin.
+RecognitionParams threshold_rule();
 SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, int unknown,
-                            double min_score, double min_margin = 0, double confident_score = 1);
+                            double min_score, const RecognitionParams& rule = threshold_rule());
 // From above every score down to 0: one point per distinct score, then min_score 0.
 std::vector<SceneCurvePoint> scene_curve(const std::vector<PredictionRow>& rows, int known,
-                                         int unknown, double min_margin = 0,
-                                         double confident_score = 1);
+                                         int unknown,
+                                         const RecognitionParams& rule = threshold_rule());
 // The point of the largest F1 whose unknown_named_share is at most max_unknown_named (ties: the
 // higher min_score); the curve's first point (nothing named) when none qualifies.
 SceneCurvePoint best_threshold(const std::vector<SceneCurvePoint>& curve,
