@@ -55,6 +55,9 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("--early-exit", o.early_exit,
                   "Stop after the batch of 8 views in which a view reached this score (faster; "
                   "may change the answer; 0 = align the whole shortlist)");
+  cmd->add_option("--early-reject", o.early_reject,
+                  "Stop after a batch of 8 views when no view so far reached this rank (faster "
+                  "on unknown objects; may change the answer; 0 = off, the default)");
   cmd->add_option("--fitness-distance", o.fitness_distance,
                   "delta_th of eq. 4: a point is explained within this distance, metres");
   cmd->add_option("--ransac-iterations", o.ransac_iterations, "RANSAC hypotheses per view");
@@ -92,6 +95,7 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   if (o.confident_score) p.confident_score = *o.confident_score;
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
+  if (o.early_reject) p.early_reject = *o.early_reject;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
   if (o.ransac_iterations) p.registration.ransac_iterations = *o.ransac_iterations;
   if (o.icp_iterations) p.registration.icp_iterations = *o.icp_iterations;

@@ -482,6 +482,29 @@ TEST(Recognition, ShortlistKeepsTheNearestViewsOfTheAskedObjects) {
   EXPECT_EQ(r.name, "driller");
 }
 
+// Early reject: a batch in which no view so far reached early_reject ends the alignment; one
+// that reached it does not.
+TEST(Recognition, EarlyRejectStopsWhenNothingFits) {
+  Database db = open_database(fresh_dir("db_early_reject"), DescriptorParams{});
+  add_linemod(db, 4);  // 32 views
+  const Mesh driller = read_mesh(kData + "/lmo/models/obj_000008.ply", 0.001);
+  const Cloud c = seen_view(driller, dim).candidate;
+  RecognitionParams p;
+  p.early_exit = 0;
+  const Recognition all = recognize(c, db, p);
+  EXPECT_EQ(all.views_aligned, p.shortlist);
+  EXPECT_EQ(all.name, "driller");
+  p.early_reject = 0.05;  // the driller's views fit far better
+  const Recognition kept = recognize(c, db, p);
+  EXPECT_EQ(kept.views_aligned, p.shortlist);
+  EXPECT_EQ(kept.name, "driller");
+  EXPECT_DOUBLE_EQ(kept.best.score, all.best.score);
+  p.early_reject = 0.99;  // no view reaches it: the first batch only
+  const Recognition rejected = recognize(c, db, p);
+  EXPECT_EQ(rejected.views_aligned, 8);
+  EXPECT_LT(rejected.best.rank, 0.99);
+}
+
 // Acceptance 1: a database of the milk carton and the 8 rendered LINEMOD objects; in the PCL
 // scene the milk carton is named with fitness >= 0.9.
 TEST(Recognition, NamesTheMilkCartonInTheRealScene) {

@@ -128,6 +128,12 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
         good |= rank_of(r.alignments[views[k]], params.score) >= params.early_exit;
       if (good) break;
     }
+    if (params.early_reject > 0 && end < m) {
+      double best = 0;
+      for (int k = 0; k < end; ++k)
+        best = std::max(best, rank_of(r.alignments[views[k]], params.score));
+      if (best < params.early_reject) break;
+    }
   }
   r.align_ms = align_watch.ms();
   // Algorithm 3: the best view names the candidate; ties go to the earlier view. Views are

@@ -126,6 +126,7 @@ void recognition_fields(P& p, F&& f) {
   f("", "trial_shortlist", p.trial_shortlist);
   f("", "merge_unnamed", p.merge_unnamed);
   f("", "early_exit", p.early_exit);
+  f("", "early_reject", p.early_reject);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
   f("", "min_part_points", p.min_part_points);
