@@ -405,6 +405,23 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
     if (c >= 0 && size[c] < min_points) c = kNone;
 }
 
+// Pixels of a component that lie within plane_flat_sigmas of the sensor's noise of the support
+// plane go to the plane. The normals of the table beside an object are bent by it over
+// image_normal_step pixels, so that ring fails the plane's normal test and joins the object: as
+// many table pixels as pen pixels around a pen lying on the table (IoU under 0.5). The structure
+// (links, plane pieces, small pieces) was decided with the ring; only the instances lose it.
+void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const SelectionParams& params,
+                    std::vector<int>& comp) {
+  if (!support.found || params.plane_flat_sigmas <= 0) return;
+  const float k = static_cast<float>(params.plane_flat_sigmas * params.sensor_noise_at_1m);
+#pragma omp parallel for schedule(static) num_threads(g.threads)
+  for (int p = 0; p < static_cast<int>(comp.size()); ++p) {
+    if (comp[p] < 0 || !g.valid(p)) continue;
+    const float z = g.z(p);
+    if (std::abs(support.plane.distance(g.frame.xyz[p])) <= k * z * z) comp[p] = kPlane;
+  }
+}
+
 }  // namespace
 
 GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
@@ -439,23 +456,6 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
   out.plane_offset = support.plane.offset;
   out.in_plane = std::move(support.in_plane);
   return out;
-}
-
-// Pixels of a component that lie within plane_flat_sigmas of the sensor's noise of the support
-// plane go to the plane. The normals of the table beside an object are bent by it over
-// image_normal_step pixels, so that ring fails the plane's normal test and joins the object: as
-// many table pixels as pen pixels around a pen lying on the table (IoU under 0.5). The structure
-// (links, plane pieces, small pieces) was decided with the ring; only the instances lose it.
-void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const SelectionParams& params,
-                    std::vector<int>& comp) {
-  if (!support.found || params.plane_flat_sigmas <= 0) return;
-  const float k = static_cast<float>(params.plane_flat_sigmas * params.sensor_noise_at_1m);
-#pragma omp parallel for schedule(static) num_threads(g.threads)
-  for (int p = 0; p < static_cast<int>(comp.size()); ++p) {
-    if (comp[p] < 0 || !g.valid(p)) continue;
-    const float z = g.z(p);
-    if (std::abs(support.plane.distance(g.frame.xyz[p])) <= k * z * z) comp[p] = kPlane;
-  }
 }
 
 Selection select_candidates_on_grid(const Frame& frame,

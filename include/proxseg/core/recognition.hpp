@@ -33,7 +33,7 @@ constexpr double kColourlessAgreement = 0.93;
 struct RecognitionParams {
   RegistrationParams registration;
   Score score = Score::kColour;
-  double min_score = 0.55;  // best score below it: "unknown" (but see lone_score)
+  double min_score = 0.55;  // best score below it: "unknown"
   // Best score minus the runner-up's (the best view of another object) below it: "unknown"
   // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
   // well, as happens for an object the database does not hold, which several models fit a bit.
@@ -105,8 +105,8 @@ struct Recognition {
   Match best;                         // the view of the best rank (Match::rank)
   Match runner_up;                    // the best-scoring view (Match::score) of any other object
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
-  int views_aligned = 0;              // the shortlist's views aligned (fewer on an early exit)
-  double align_ms = 0;                // wall time over all views
+  int views_aligned = 0;   // the shortlist's views aligned (fewer on an early exit or reject)
+  double align_ms = 0;     // wall time over all views
   double describe_ms = 0;  // describing the candidate (recognize_object, recognize_scene; 0 from
                            // recognize(), which is given it described)
 };
