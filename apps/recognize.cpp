@@ -52,6 +52,12 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "At or above this best score the --min-margin lead is not asked for");
   cmd->add_option("--shortlist", o.shortlist,
                   "Views aligned per candidate: the nearest by signature (0 = every view)");
+  cmd->add_option("--lone-score", o.lone_score,
+                  "A best score under --min-score but at least this still names the object "
+                  "when colour was compared and no other object scores over --lone-ratio of it "
+                  "(0 = off)");
+  cmd->add_option("--lone-ratio", o.lone_ratio,
+                  "The runner-up's largest share of the best score for a lone match");
   cmd->add_option("--early-exit", o.early_exit,
                   "Stop after the batch of 8 views in which a view reached this score (faster; "
                   "may change the answer; 0 = align the whole shortlist)");
@@ -96,6 +102,8 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   if (o.min_score) p.min_score = *o.min_score;
   if (o.early_exit) p.early_exit = *o.early_exit;
   if (o.early_reject) p.early_reject = *o.early_reject;
+  if (o.lone_score) p.lone_score = *o.lone_score;
+  if (o.lone_ratio) p.lone_ratio = *o.lone_ratio;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
   if (o.ransac_iterations) p.registration.ransac_iterations = *o.ransac_iterations;
   if (o.icp_iterations) p.registration.icp_iterations = *o.icp_iterations;

@@ -204,6 +204,7 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
     p.points = std::move(points);
     // Ranked allowing for an occlusion, judged on the score, as recognize() does.
     int best = -1;
+    bool lone = false;  // names_best()'s lone match: colour compared, another object aligned
     for (int v = 0; v < n; ++v)
       if (aligned[v].found && (best < 0 || rank[v] > rank[best])) best = v;
     if (best >= 0) {
@@ -216,8 +217,10 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
       const proxseg::Alignment a =
           proxseg::score_pose(c, db.views[best].cloud, aligned[best].pose, rp.registration);
       p.colour = a.coloured ? a.colour : -1;
+      for (int v = 0; v < n; ++v)
+        lone |= aligned[v].found && db.views[v].object != p.best && a.coloured;
     }
-    p.name = best >= 0 && proxseg::names_best(p.score, p.runner_up, rp) ? p.best : "unknown";
+    p.name = best >= 0 && proxseg::names_best(p.score, p.runner_up, rp, lone) ? p.best : "unknown";
     out.push_back(std::move(p));
   }
   return out;

@@ -156,6 +156,8 @@ void validate(const RecognitionParams& p) {
   require(p.shortlist >= 0, "shortlist", ">= 0 (0 = every view)");
   require(p.trial_shortlist >= 0, "trial_shortlist", ">= 0 (0 = every view of the objects)");
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
+  require(p.lone_score >= 0 && p.lone_score <= 1, "lone_score", "0 (off) or a score in (0, 1]");
+  require(p.lone_ratio >= 0 && p.lone_ratio <= 1, "lone_ratio", "0 .. 1");
   require(p.early_reject >= 0 && p.early_reject <= 1, "early_reject",
           "0 (off) or a rank in (0, 1]");
   require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");

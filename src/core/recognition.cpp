@@ -44,9 +44,11 @@ double score_with(const Alignment& a, Score score, double coverage) {
 
 }  // namespace
 
-bool names_best(double score, double runner_up, const RecognitionParams& params) {
+bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone) {
   const bool clear = score - runner_up >= params.min_margin || score >= params.confident_score;
-  return score >= params.min_score && clear;
+  if (score >= params.min_score && clear) return true;
+  return lone && params.lone_score > 0 && score >= params.lone_score &&
+         runner_up <= params.lone_ratio * score;
 }
 
 double score_of(const Alignment& a, Score score) {
@@ -167,8 +169,10 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
   const double runner_up = r.runner_up.view >= 0 ? r.runner_up.score : 0.0;
-  r.name =
-      r.best.view >= 0 && names_best(r.best.score, runner_up, params) ? r.best.object : "unknown";
+  const bool lone = objects.empty() && r.runner_up.view >= 0 && r.best.view >= 0 &&
+                    r.alignments[r.best.view].coloured;
+  r.name = r.best.view >= 0 && names_best(r.best.score, runner_up, params, lone) ? r.best.object
+                                                                                 : "unknown";
   return r;
 }
 

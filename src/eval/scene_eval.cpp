@@ -409,6 +409,7 @@ RecognitionParams threshold_rule() {
   RecognitionParams rule;
   rule.min_margin = 0;
   rule.confident_score = 1;
+  rule.lone_score = 0;
   return rule;
 }
 
@@ -419,7 +420,10 @@ SceneCurvePoint scene_point(const std::vector<PredictionRow>& rows, int known, i
   RecognitionParams at = rule;
   at.min_score = min_score;
   for (const PredictionRow& r : rows) {
-    if (r.best.empty() || !names_best(r.score, r.runner_up, at)) continue;  // "unknown" here
+    // The lone match as recognize() allows it: colour compared (a merge or split trial's piece
+    // did not have it; the rows do not tell those apart).
+    const bool lone = r.colour >= 0;
+    if (r.best.empty() || !names_best(r.score, r.runner_up, at, lone)) continue;  // "unknown"
     const bool right = r.truth >= 0 && r.truth_known && r.best == r.truth_name;
     (right ? p.tp : p.fp) += 1;
     p.unknown_named += r.truth >= 0 && !r.truth_known;

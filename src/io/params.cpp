@@ -127,6 +127,8 @@ void recognition_fields(P& p, F&& f) {
   f("", "merge_unnamed", p.merge_unnamed);
   f("", "early_exit", p.early_exit);
   f("", "early_reject", p.early_reject);
+  f("", "lone_score", p.lone_score);
+  f("", "lone_ratio", p.lone_ratio);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
   f("", "min_part_points", p.min_part_points);

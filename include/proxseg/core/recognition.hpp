@@ -42,6 +42,16 @@ struct RecognitionParams {
   // the candidate and of its own visible surface names it even when a look-alike comes close
   // (the YCB-Video gelatin box, 0.89, against the pudding box, 0.76, by shape alone).
   double confident_score = 0.8;
+  // A lone match [extension, docs/method.md "Recognition that generalises"]: a best score under
+  // min_score but at least lone_score still names the object when the runner-up scores at most
+  // lone_ratio of it (Lowe's ratio test), and only when colour was compared (both clouds
+  // coloured) and another object's views competed over the whole shortlist: a piece of an
+  // object (a fragment, a merge with a neighbour) that shape and colour both single out from
+  // every other model. Without colour, or with a runner-up from a trial's few objects, a far
+  // runner-up says little: an unknown object that fits one model of a small database a bit is
+  // far from all the others too. 0 = off.
+  double lone_score = 0.4;
+  double lone_ratio = 0.2;
   // Views aligned per candidate: the ones nearest to it by signature (view_distance(), or
   // signature_distance() without shortlist_parts; registration.hpp), with the nearest view of a
   // second object when they all show one, so that there is a runner-up [extension,
@@ -112,9 +122,10 @@ struct Recognition {
 };
 
 // Whether recognize() names the best view's object: score >= min_score and either score -
-// runner_up >= min_margin or score >= confident_score. runner_up: the best score of another
-// object, 0 when there is none.
-bool names_best(double score, double runner_up, const RecognitionParams& params);
+// runner_up >= min_margin or score >= confident_score; or, when `lone` (colour compared, a
+// runner-up from the whole shortlist), score >= lone_score and runner_up <= lone_ratio x score.
+// runner_up: the best score of another object, 0 when there is none.
+bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone = false);
 
 // The score of an alignment (Score); what the minimum score, the margin and the confident score
 // judge.
