@@ -63,7 +63,7 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "may change the answer; 0 = align the whole shortlist)");
   cmd->add_option("--early-reject", o.early_reject,
                   "Stop after a batch of 8 views when no view so far reached this rank (faster "
-                  "on unknown objects; may change the answer; 0 = off, the default)");
+                  "on unknown objects; may change the answer; 0 = align the whole shortlist)");
   cmd->add_option("--fitness-distance", o.fitness_distance,
                   "delta_th of eq. 4: a point is explained within this distance, metres");
   cmd->add_option("--ransac-iterations", o.ransac_iterations, "RANSAC hypotheses per view");

@@ -357,6 +357,7 @@ int run(const Options& o) {
   proxseg::RecognitionParams every = rp;
   every.shortlist = 0;   // every view, as the paper aligns them:
   every.early_exit = 0;  // none skipped either
+  every.early_reject = 0;
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const int team = o.threads > 0 ? o.threads : omp_get_max_threads();
 

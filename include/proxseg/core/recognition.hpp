@@ -71,9 +71,9 @@ struct RecognitionParams {
   double early_exit = 0.8;
   // > 0: stop after a batch of views in which no view so far reached this rank (rank_of()):
   // nothing of the database fits (an unknown object, a piece of one), and the views further down
-  // the shortlist are less like the candidate. Faster; may change the answer. 0 = align the
-  // whole shortlist.
-  double early_reject = 0;
+  // the shortlist are less like the candidate. Faster; may change the answer (a thin object
+  // whose own views come late). 0 = align the whole shortlist.
+  double early_reject = 0.2;
   // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
   // that names a candidate also tells which of its points belong to it.
   // Split: a named candidate whose best fitness is under split_fitness is cut into the points
