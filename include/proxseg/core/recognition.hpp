@@ -33,7 +33,7 @@ constexpr double kColourlessAgreement = 0.93;
 struct RecognitionParams {
   RegistrationParams registration;
   Score score = Score::kColour;
-  double min_score = 0.55;  // best score below it: "unknown"
+  double min_score = 0.55;  // best score below it: "unknown" (unless a lone match, below)
   // Best score minus the runner-up's (the best view of another object) below it: "unknown"
   // [extension, docs/method.md "Unknown objects"]: another model explains the candidate about as
   // well, as happens for an object the database does not hold, which several models fit a bit.
