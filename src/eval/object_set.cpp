@@ -269,7 +269,7 @@ ColourFn generated_paint(const std::string& name, const Eigen::AlignedBox3d& box
   SplitMix rng{h};
   const auto colour = [&] {
     const double hue = rng.uniform(), sat = rng.uniform(0.35, 0.9), val = rng.uniform(0.3, 0.95);
-    return Col(hsv_to_rgb(Eigen::Vector3d(hue, sat, val)) * 255.0);
+    return Col(hsv_to_rgb(Eigen::Vector3d(hue, sat, val)));
   };
   const Col base = colour(), second = rng.uniform() < 0.3 ? Col(230, 228, 220) : colour();
   const int pattern = static_cast<int>(rng.next() % 4);
