@@ -134,8 +134,9 @@ int run_db(const DbOptions& o);
 struct RecognizeOptions : SegmentOptions {
   std::string db, output, object, config;
   std::optional<std::string> score;
-  std::optional<double> min_score, min_margin, confident_score, lone_score, lone_ratio, early_exit,
-      early_reject, fitness_distance, split_fitness, merge_distance, free_space;
+  std::optional<double> min_score, min_margin, confident_score, lone_score, lone_ratio,
+      lookalike_share, early_exit, early_reject, fitness_distance, split_fitness, merge_distance,
+      free_space;
   std::optional<int> shortlist;
   std::optional<int> ransac_iterations, icp_iterations;
   std::optional<std::uint64_t> seed;

@@ -58,6 +58,9 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "(0 = off)");
   cmd->add_option("--lone-ratio", o.lone_ratio,
                   "The runner-up's largest share of the best score for a lone match");
+  cmd->add_option("--lookalike-share", o.lookalike_share,
+                  "When the runner-up comes within --min-margin, this share of the votes of the "
+                  "points where the two models' colours differ names one of them (0 = off)");
   cmd->add_option("--early-exit", o.early_exit,
                   "Stop after the batch of 8 views in which a view reached this score (faster; "
                   "may change the answer; 0 = align the whole shortlist)");
@@ -104,6 +107,7 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   if (o.early_reject) p.early_reject = *o.early_reject;
   if (o.lone_score) p.lone_score = *o.lone_score;
   if (o.lone_ratio) p.lone_ratio = *o.lone_ratio;
+  if (o.lookalike_share) p.lookalike_share = *o.lookalike_share;
   if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
   if (o.ransac_iterations) p.registration.ransac_iterations = *o.ransac_iterations;
   if (o.icp_iterations) p.registration.icp_iterations = *o.icp_iterations;

@@ -165,9 +165,9 @@ std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labe
 // The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
 // Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
 // (rec_bench's peer), the poses scored and the candidate named exactly as proxseg::recognize
-// does (same score with the candidate's colours, ties to the earlier view, names_best() with the
-// same parameters). A cluster too small to describe is not made, as recognize_scene() does with
-// such candidates.
+// does (same score with the candidate's colours, ties to the earlier view, the look-alike vote and
+// names_best() with the same parameters). A cluster too small to describe is not made, as
+// recognize_scene() does with such candidates.
 std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
                                    const proxseg::peers::Open3dPeer& open3d,
                                    const proxseg::RecognitionParams& rp, int threads) {
@@ -192,13 +192,13 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
         open3d.align(c, static_cast<int>(rp.seed));
     const int n = static_cast<int>(aligned.size());
     std::vector<double> score(n, 0), rank(n, 0);
+    std::vector<proxseg::Alignment> scored(n);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int v = 0; v < n; ++v)
       if (aligned[v].found) {  // no hypothesis, no pose to score: 0
-        const proxseg::Alignment scored =
-            proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
-        score[v] = proxseg::score_of(scored, rp.score);
-        rank[v] = proxseg::rank_of(scored, rp.score);
+        scored[v] = proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
+        score[v] = proxseg::score_of(scored[v], rp.score);
+        rank[v] = proxseg::rank_of(scored[v], rp.score);
       }
     Prediction p;
     p.points = std::move(points);
@@ -207,20 +207,31 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
     bool lone = false;  // names_best()'s lone match: colour compared, another object aligned
     for (int v = 0; v < n; ++v)
       if (aligned[v].found && (best < 0 || rank[v] > rank[best])) best = v;
+    int runner_up = -1;    // the best-scoring view of another object
+    bool decided = false;  // the look-alike vote named the best
     if (best >= 0) {
+      for (int v = 0; v < n; ++v)
+        if (aligned[v].found && db.views[v].object != db.views[best].object &&
+            (runner_up < 0 || score[v] > score[runner_up]))
+          runner_up = v;
+      if (runner_up >= 0) {
+        const int winner =
+            proxseg::tell_lookalikes(c, db.views[best].cloud, scored[best],
+                                     db.views[runner_up].cloud, scored[runner_up], rp);
+        if (winner == 2) std::swap(best, runner_up);
+        decided = winner != 0;
+      }
       p.best = db.views[best].object;
       p.score = score[best];
       p.pose = aligned[best].pose;
-      for (int v = 0; v < n; ++v)
-        if (aligned[v].found && db.views[v].object != p.best)
-          p.runner_up = std::max(p.runner_up, score[v]);
-      const proxseg::Alignment a =
-          proxseg::score_pose(c, db.views[best].cloud, aligned[best].pose, rp.registration);
+      if (runner_up >= 0) p.runner_up = score[runner_up];
+      const proxseg::Alignment& a = scored[best];
       p.colour = a.coloured ? a.colour : -1;
-      for (int v = 0; v < n; ++v)
-        lone |= aligned[v].found && db.views[v].object != p.best && a.coloured;
+      lone = runner_up >= 0 && a.coloured;
     }
-    p.name = best >= 0 && proxseg::names_best(p.score, p.runner_up, rp, lone) ? p.best : "unknown";
+    const bool named =
+        decided ? p.score >= rp.min_score : proxseg::names_best(p.score, p.runner_up, rp, lone);
+    p.name = best >= 0 && named ? p.best : "unknown";
     out.push_back(std::move(p));
   }
   return out;
@@ -534,7 +545,11 @@ int run(const Options& o) {
      << (o.config.empty() ? "default parameters" : "the config's parameters")
      << " + recognize_scene() (min score " << fmt(rp.min_score, 2) << ", min margin "
      << fmt(rp.min_margin, 2) << " unless the score reaches " << fmt(rp.confident_score, 2)
-     << ", shortlist " << rp.shortlist << " views, split and merge on). "
+     << ", or a lone match: at least " << fmt(rp.lone_score, 2) << " with the runner-up under "
+     << fmt(rp.lone_ratio, 2) << " of it; a look-alike vote (" << fmt(rp.lookalike_share, 2)
+     << " of the votes) when the runner-up is within the margin"
+     << "; shortlist " << rp.shortlist << " views, early reject under " << fmt(rp.early_reject, 2)
+     << ", split and merge on). "
      << "Peer: PCL plane + Euclidean clusters (seg_bench's \"PCL plane + Euclidean\") as "
         "candidates, each described like proxseg's (with its colours) and aligned to every view "
         "by Open3D RANSAC "

@@ -158,6 +158,11 @@ void validate(const RecognitionParams& p) {
   require(p.early_exit >= 0 && p.early_exit <= 1, "early_exit", "0 (off) or a score in (0, 1]");
   require(p.lone_score >= 0 && p.lone_score <= 1, "lone_score", "0 (off) or a score in (0, 1]");
   require(p.lone_ratio >= 0 && p.lone_ratio <= 1, "lone_ratio", "0 .. 1");
+  require(p.lookalike_share == 0 || (p.lookalike_share > 0.5 && p.lookalike_share <= 1),
+          "lookalike_share", "0 (off) or a share in (0.5, 1]");
+  require(p.lookalike_agreement >= 0 && p.lookalike_agreement <= 1, "lookalike_agreement",
+          "in [0, 1]");
+  require(p.lookalike_shape >= 0 && p.lookalike_shape <= 1, "lookalike_shape", "in [0, 1]");
   require(p.early_reject >= 0 && p.early_reject <= 1, "early_reject",
           "0 (off) or a rank in (0, 1]");
   require(p.split_fitness >= 0 && p.split_fitness <= 1, "split_fitness", "0 (off) .. 1");

@@ -44,6 +44,24 @@ double score_with(const Alignment& a, Score score, double coverage) {
 
 }  // namespace
 
+int tell_lookalikes(const Cloud& candidate, const Cloud& best_view, const Alignment& best,
+                    const Cloud& runner_up_view, const Alignment& runner_up,
+                    const RecognitionParams& params, LookalikeVote* vote) {
+  // Fewer votes than this (2.5 square cm at 5 mm voxels) are a seam or a few noisy points.
+  constexpr int kMinVotes = 10;
+  if (!(params.lookalike_share > 0) ||
+      score_of(best, params.score) - score_of(runner_up, params.score) >= params.min_margin)
+    return 0;
+  // Two models of one shape: both explain the candidate's shape well. A candidate that two
+  // models fit only partly is as likely an object of neither, which leans to one in colour.
+  for (const Alignment* a : {&best, &runner_up})
+    if (score_of(*a, Score::kSymmetric) < params.lookalike_shape) return 0;
+  const LookalikeVote v = lookalike_vote(candidate, best_view, best.pose, runner_up_view,
+                                         runner_up.pose, params.registration);
+  if (vote) *vote = v;
+  return lookalike_winner(v, params.lookalike_share, params.lookalike_agreement, kMinVotes);
+}
+
 bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone) {
   const bool clear = score - runner_up >= params.min_margin || score >= params.confident_score;
   if (score >= params.min_score && clear) return true;
@@ -168,11 +186,23 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     const Match m = to_match(v);
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
+  if (r.best.view >= 0 && r.runner_up.view >= 0) {
+    const int winner = tell_lookalikes(candidate, db.views[r.best.view].cloud,
+                                       r.alignments[r.best.view], db.views[r.runner_up.view].cloud,
+                                       r.alignments[r.runner_up.view], params, &r.lookalike);
+    if (winner == 2) {  // the runner-up's colours are the candidate's: it is the answer
+      std::swap(r.best, r.runner_up);
+      std::swap(r.lookalike.first, r.lookalike.second);
+      std::swap(r.lookalike.first_agreement, r.lookalike.second_agreement);
+    }
+    r.lookalike_decided = winner != 0;
+  }
   const double runner_up = r.runner_up.view >= 0 ? r.runner_up.score : 0.0;
   const bool lone = objects.empty() && r.runner_up.view >= 0 && r.best.view >= 0 &&
                     r.alignments[r.best.view].coloured;
-  r.name = r.best.view >= 0 && names_best(r.best.score, runner_up, params, lone) ? r.best.object
-                                                                                 : "unknown";
+  const bool named = r.lookalike_decided ? r.best.score >= params.min_score
+                                         : names_best(r.best.score, runner_up, params, lone);
+  r.name = r.best.view >= 0 && named ? r.best.object : "unknown";
   return r;
 }
 
@@ -343,8 +373,10 @@ std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecogniser
     queue.pop_front();
     const Recognition& r = w.object.recognition;
     bool split = false;
-    if (named(w) && r.best.fitness < params.split_fitness &&
-        w.object.points.size() >= 2 * min_part) {
+    // A piece whose best view reaches the minimum score but not the margin is tried too: two
+    // touching objects, one of which explains the piece about as well as another model does.
+    const bool fits = named(w) || (r.best.view >= 0 && r.best.score >= params.min_score);
+    if (fits && r.best.fitness < params.split_fitness && w.object.points.size() >= 2 * min_part) {
       const std::vector<char> in =
           explained(xyz_of(recognise.frame, w.object.points), recognise.db.views[r.best.view].cloud,
                     r.best.pose, params.registration.fitness_distance);

@@ -331,14 +331,6 @@ struct Hypothesis {
   double overlap = 0;
 };
 
-// chromaticity_agreement(), times the brightness term when brightness_sigma > 0.
-double point_agreement(const Rgb& a, const Rgb& b, double brightness_sigma) {
-  const double c = chromaticity_agreement(a, b);
-  if (!(brightness_sigma > 0)) return c;
-  const double ratio = std::log((a[0] + a[1] + a[2] + 3.0) / (b[0] + b[1] + b[2] + 3.0));
-  return c * std::exp(-0.5 * ratio * ratio / (brightness_sigma * brightness_sigma));
-}
-
 // Two poses within 0.1 rad and `distance` of each other. The angle of the relative rotation R
 // is compared through its trace (1 + 2 cos angle), without the trigonometry of an angle-axis:
 // RANSAC asks this of every hypothesis against each one it keeps.
@@ -362,7 +354,7 @@ double explained_colour(const Cloud& cand, const Cloud& view, const Eigen::Matri
     const int j = nearest(view.index->points, apply(inv, cand.points[i]), delta, d2);
     if (j < 0 || d2 > delta * delta) continue;
     ++n;
-    sum += point_agreement(cand.colours[i], view.colours[j], brightness_sigma);
+    sum += point_colour_agreement(cand.colours[i], view.colours[j], brightness_sigma);
   }
   colour = n ? sum / n : 0;
   return cand.size() ? double(n) / cand.size() : 0;
@@ -918,7 +910,7 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
       ++within_score;
       if (a.coloured) {
         sum_colour +=
-            point_agreement(candidate.colours[i], view.colours[j], params.brightness_sigma);
+            point_colour_agreement(candidate.colours[i], view.colours[j], params.brightness_sigma);
         explained_colours.push_back(candidate.colours[i]);
       }
     }
@@ -995,6 +987,25 @@ double chromaticity_histogram_agreement(const std::vector<Rgb>& a, const std::ve
   // Two single colours d apart have a coefficient of exp(-d^2 / (8 sigma^2)); its 4th power is
   // chromaticity_agreement()'s exp(-d^2 / (2 sigma^2)): both terms on one scale.
   return std::pow(std::min(1.0, bc), 4);
+}
+
+double point_colour_agreement(const Rgb& a, const Rgb& b, double brightness_sigma) {
+  const double c = chromaticity_agreement(a, b);
+  if (!(brightness_sigma > 0)) return c;
+  const double ratio = std::log((a[0] + a[1] + a[2] + 3.0) / (b[0] + b[1] + b[2] + 3.0));
+  return c * std::exp(-0.5 * ratio * ratio / (brightness_sigma * brightness_sigma));
+}
+
+std::vector<int> nearest_view_points(const Cloud& candidate, const Cloud& view,
+                                     const Eigen::Matrix4d& pose, double delta) {
+  const Eigen::Matrix4d inv = pose.inverse();
+  std::vector<int> out(candidate.size(), -1);
+  for (std::size_t i = 0; i < candidate.size(); ++i) {
+    double d2 = 0;
+    const int j = nearest(view.index->points, apply(inv, candidate.points[i]), delta, d2);
+    if (j >= 0 && d2 <= delta * delta) out[i] = j;
+  }
+  return out;
 }
 
 double chromaticity_agreement(const Rgb& a, const Rgb& b) {

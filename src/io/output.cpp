@@ -425,6 +425,14 @@ nlohmann::json recognition_json(const SceneObject& o, const Database& db) {
     j["free_space"] = r.best.free_space;
     j["pose"] = rows(r.best.pose);
   }
+  if (r.lookalike.compared > 0)
+    j["lookalike"] = {{"compared", r.lookalike.compared},
+                      {"differing", r.lookalike.differing},
+                      {"votes_best", r.lookalike.first},
+                      {"votes_runner_up", r.lookalike.second},
+                      {"agreement_best", r.lookalike.first_agreement},
+                      {"agreement_runner_up", r.lookalike.second_agreement},
+                      {"decided", r.lookalike_decided}};
   return j;
 }
 

@@ -129,6 +129,9 @@ void recognition_fields(P& p, F&& f) {
   f("", "early_reject", p.early_reject);
   f("", "lone_score", p.lone_score);
   f("", "lone_ratio", p.lone_ratio);
+  f("", "lookalike_share", p.lookalike_share);
+  f("", "lookalike_agreement", p.lookalike_agreement);
+  f("", "lookalike_shape", p.lookalike_shape);
   f("", "split_fitness", p.split_fitness);
   f("", "merge_distance", p.merge_distance);
   f("", "min_part_points", p.min_part_points);

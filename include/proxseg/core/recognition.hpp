@@ -3,6 +3,7 @@
 #pragma once
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/frame.hpp>
+#include <proxseg/core/lookalike.hpp>
 #include <proxseg/core/registration.hpp>
 #include <proxseg/core/selection.hpp>
 #include <proxseg/core/visibility.hpp>
@@ -51,7 +52,17 @@ struct RecognitionParams {
   // runner-up says little: an unknown object that fits one model of a small database a bit is
   // far from all the others too. 0 = off.
   double lone_score = 0.4;
-  double lone_ratio = 0.2;
+  double lone_ratio = 0.45;
+  // Look-alikes [extension, docs/method.md "Recognition that generalises"]: when the runner-up
+  // comes within min_margin of the best and both explain the candidate's shape alike well
+  // (Score::kSymmetric at least lookalike_shape: two models of one shape), the candidate points
+  // where the two views' colours differ vote (lookalike_vote(), lookalike.hpp). At least
+  // lookalike_share of the votes (and 10 votes) for one of them, whose voters agree with its
+  // colours at least lookalike_agreement on average, name it (made the best if it was the
+  // runner-up) without the margin. 0 = off.
+  double lookalike_share = 0.8;
+  double lookalike_agreement = 0.6;
+  double lookalike_shape = 0.75;
   // Views aligned per candidate: the ones nearest to it by signature (view_distance(), or
   // signature_distance() without shortlist_parts; registration.hpp), with the nearest view of a
   // second object when they all show one, so that there is a runner-up [extension,
@@ -111,9 +122,13 @@ struct Match {
 };
 
 struct Recognition {
-  std::string name;                   // best.object, or "unknown" (names_best() false)
-  Match best;                         // the view of the best rank (Match::rank)
-  Match runner_up;                    // the best-scoring view (Match::score) of any other object
+  std::string name;  // best.object, or "unknown" (names_best() false)
+  Match best;        // the view of the best rank (Match::rank)
+  Match runner_up;   // the best-scoring view (Match::score) of any other object
+  // The look-alike vote between best and runner_up when the runner-up came within min_margin
+  // (compared = 0 otherwise); `first` counts for best, also when the vote made it the best.
+  LookalikeVote lookalike;
+  bool lookalike_decided = false;     // the vote named best (RecognitionParams::lookalike_share)
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
   int views_aligned = 0;   // the shortlist's views aligned (fewer on an early exit or reject)
   double align_ms = 0;     // wall time over all views
@@ -126,6 +141,16 @@ struct Recognition {
 // runner-up from the whole shortlist), score >= lone_score and runner_up <= lone_ratio x score.
 // runner_up: the best score of another object, 0 when there is none.
 bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone = false);
+
+// The look-alike vote [extension, docs/method.md "Recognition that generalises"] between the
+// best view of a candidate and the runner-up (the best view of another object), each with its
+// alignment: 0 when it does not decide (the runner-up is not within min_margin, either view
+// explains the candidate's shape under lookalike_shape, or the vote is not clear, see
+// RecognitionParams::lookalike_share), 1 when it names the best, 2 when it names the runner-up.
+// The vote, when taken, goes to `vote`.
+int tell_lookalikes(const Cloud& candidate, const Cloud& best_view, const Alignment& best,
+                    const Cloud& runner_up_view, const Alignment& runner_up,
+                    const RecognitionParams& params, LookalikeVote* vote = nullptr);
 
 // The score of an alignment (Score); what the minimum score, the margin and the confident score
 // judge.

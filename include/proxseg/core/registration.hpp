@@ -43,13 +43,13 @@ struct RegistrationParams {
   double ransac_distance = 0.01;     // inlier distance of a correspondence under a hypothesis
   double edge_similarity = 0.9;      // sample pre-rejection: edge-length ratio between the clouds
   double normal_tolerance_deg = 15;  // sample pre-rejection: angles of the point-pair feature
-  int ransac_candidates = 60;        // best distinct hypotheses re-judged by their true overlap
+  int ransac_candidates = 45;        // best distinct hypotheses re-judged by their true overlap
   bool mutual_filter = false;        // keep only mutually nearest feature pairs
   // Candidate points used for matching, RANSAC and ICP (evenly sampled; fitness and coverage
   // use all of them). Matching costs candidate x view points per view.
   int max_points = 300;
   int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
-  int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
+  int icp_starts = 2;              // ICP runs from the best this many RANSAC hypotheses
   double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
   bool point_to_plane = false;     // the paper's ICP is point-to-point
   double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
@@ -218,6 +218,14 @@ double colour_agreement(const Cloud& candidate, const Cloud& view, const Eigen::
 // Chromaticity ignores brightness, so shading and exposure differences between the database and
 // the scene do not count, while hue and saturation do.
 double chromaticity_agreement(const Rgb& a, const Rgb& b);
+// chromaticity_agreement() times, when brightness_sigma > 0, a Gaussian of the log of the two
+// brightnesses' ratio with that sigma (RegistrationParams::brightness_sigma): how well one
+// candidate point's colour agrees with the view point that explains it.
+double point_colour_agreement(const Rgb& a, const Rgb& b, double brightness_sigma);
+// Per candidate point: the nearest point of the view put in place by pose (candidate <- model)
+// within delta, -1 when there is none.
+std::vector<int> nearest_view_points(const Cloud& candidate, const Cloud& view,
+                                     const Eigen::Matrix4d& pose, double delta);
 // Agreement of two colour distributions in [0, 1]: the Bhattacharyya coefficient of their
 // chromaticity histograms, each colour spread over the cells as chromaticity_agreement() would
 // blur it (wider for dark colours), to the 4th power, which puts two single colours on
