@@ -33,6 +33,20 @@ const std::vector<PoolObject>& pool() {
   return objects;
 }
 
+// One scene object recognised again on its own under other parameters, as recognize_scene()
+// recognised it (its points described with their colours, the frame's depths for free space).
+Recognition recognize_again(const ClutterScene& scene, const SceneObject& o, const Database& db,
+                            const RecognitionParams& params) {
+  std::vector<Eigen::Vector3d> xyz;
+  std::vector<Rgb> rgb;
+  for (int i : o.points) {
+    xyz.push_back(scene.frame.xyz[i].cast<double>());
+    rgb.push_back(scene.frame.rgb[i]);
+  }
+  const DepthImage depths = depth_image(scene.frame);
+  return recognize(describe_candidate(xyz, db, &rgb), db, params, {}, &depths);
+}
+
 }  // namespace
 
 TEST(ObjectSet, PoolHasManyKindsInTwoHalvesWithGroupsKeptTogether) {
@@ -216,14 +230,7 @@ TEST(ObjectSet, LoneMatchNamesTheBananaOfTheFirstScene) {
     // The same candidate without the rule: the same alignments (one seed), "unknown".
     RecognitionParams off = p;
     off.lone_score = 0;
-    std::vector<Eigen::Vector3d> xyz;
-    std::vector<Rgb> rgb;
-    for (int i : o.points) {
-      xyz.push_back(scene.frame.xyz[i].cast<double>());
-      rgb.push_back(scene.frame.rgb[i]);
-    }
-    const DepthImage depths = depth_image(scene.frame);
-    const Recognition without = recognize(describe_candidate(xyz, db, &rgb), db, off, {}, &depths);
+    const Recognition without = recognize_again(scene, o, db, off);
     EXPECT_EQ(without.best.object, "banana");
     EXPECT_NEAR(without.best.score, r.best.score, 1e-9);
     EXPECT_EQ(without.name, "unknown");
@@ -270,14 +277,7 @@ TEST(ObjectSet, LookalikeVoteTellsTheYellowBowlFromTheGreen) {
     // Without the vote: the green bowl, named by its confident score.
     RecognitionParams off = p;
     off.lookalike_share = 0;
-    std::vector<Eigen::Vector3d> xyz;
-    std::vector<Rgb> rgb;
-    for (int i : o.points) {
-      xyz.push_back(scene.frame.xyz[i].cast<double>());
-      rgb.push_back(scene.frame.rgb[i]);
-    }
-    const DepthImage depths = depth_image(scene.frame);
-    const Recognition without = recognize(describe_candidate(xyz, db, &rgb), db, off, {}, &depths);
+    const Recognition without = recognize_again(scene, o, db, off);
     EXPECT_EQ(without.name, "bowl-green");
   }
   EXPECT_EQ(voted, 1);
