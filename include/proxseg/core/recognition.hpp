@@ -122,7 +122,7 @@ struct Match {
 };
 
 struct Recognition {
-  std::string name;  // best.object, or "unknown" (names_best() false)
+  std::string name;  // best.object, or "unknown" (neither names_best() nor the vote names it)
   Match best;        // the view of the best rank (Match::rank)
   Match runner_up;   // the best-scoring view (Match::score) of any other object
   // The look-alike vote between best and runner_up when the runner-up came within min_margin
