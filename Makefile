@@ -8,6 +8,9 @@
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
 #                   generated clutter set (60 scenes in $(BUILD)/clutter, made when missing)
+#   make bench-ablation  what each segmentation stage buys: seg_cv with each stage off
+#                   (bench/seg_ablation.json) on mOSD learn and the generated clutter, piles and
+#                   occlusion sets ($(BUILD)/seg-dev, made when missing), cross-validated folds
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
 #                   Open3D (RANSAC, FGR), PCL and OpenCV PPF peers
@@ -31,7 +34,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
 
 all: build
 
@@ -86,7 +89,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch
+bench: bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch
 
 bench-seg: deps-bench configure
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
@@ -99,6 +102,19 @@ bench-seg: deps-bench configure
 	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
 
 # Peak RSS of one frame and of a 64-view recognition; RSS over a 100-frame batch (no growth).
+SEGDEV = $(BUILD)/seg-dev
+bench-ablation: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target seg_cv proxseg_cli
+	@mkdir -p $(SEGDEV) $(BUILD)/bench-out
+	@for k in clutter:60 piles:30 occlusion:30; do kind=$${k%:*} n=$${k#*:}; \
+	  [ -f $(SEGDEV)/$$kind-0$$n.pcd ] || $(BUILD)/proxseg synth --clutter --kind $$kind \
+	    --count $$n --models $(DATA)/lmo/models -o $(SEGDEV) > /dev/null; done
+	@$(BUILD)/bench/seg_cv --data $(DATA)/mosd/learn --clutter $(SEGDEV) --threads 2 \
+	  --grid bench/seg_ablation.json --out $(BUILD)/bench-out/ablation.md \
+	  --title "Segmentation: what each stage buys (each off in turn, cross-validated)"
+	@bash scripts/update-results.sh docs/results.md ablation $(BUILD)/bench-out/ablation.md
+	@echo "docs/results.md (ablation) regenerated"
+
 bench-mem: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli mem_bench
 	@mkdir -p $(BUILD)/bench-out

@@ -29,6 +29,10 @@ void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--preset", o.preset,
                   "Base parameters: default (best measured) or paper (the paper's settings)")
       ->check(CLI::IsMember({"default", "paper"}));
+  cmd->add_flag("--paper-labels", o.paper_labels,
+                "Compute the paper's labels (features, Algorithm 1, k-means, MRF) also where the "
+                "default's image-grid selection does not need them; the flags of those stages "
+                "below switch them on too");
   cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
   cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
       ->check(CLI::IsMember({"swap", "expansion"}));
@@ -78,6 +82,12 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentP
   if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
   if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
   if (o.threads) p.threads = *o.threads;
+  // A flag of stages 2-6 asks for the labels it changes.
+  const bool label_flag = o.voxel_size || o.min_points || o.alpha || o.pca_dims || o.prior_weight ||
+                          o.wu || o.wc || o.colour_weight || o.texture_weight || o.shape_weight ||
+                          o.no_colour || o.no_texture || o.no_shape || o.no_mrf || o.mrf_method ||
+                          o.mrf_cycles;
+  if (o.paper_labels || label_flag) p.paper_labels = true;
   proxseg::validate(p);
   return p;
 }

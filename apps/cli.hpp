@@ -39,6 +39,7 @@ struct SegmentOptions : BatchOptions {
       shape_weight, cluster_tolerance;
   std::optional<int> min_points, pca_dims, threads, min_candidate_points;
   bool no_colour = false, no_texture = false, no_shape = false;
+  bool paper_labels = false;  // --paper-labels
 };
 void add_scene_options(CLI::App* cmd, SegmentOptions& o);
 // Usage checks: INPUT or an RGB-D pair, and no output path equal to an input.
@@ -98,7 +99,8 @@ struct SynthOptions {
   std::string output;
   unsigned seed = 1;
   double noise = proxseg::SynthParams{}.depth_noise;
-  bool clutter = false;  // --clutter: proxseg::clutter_scene (docs/clutter.md)
+  bool clutter = false;          // --clutter: proxseg::clutter_scene (docs/clutter.md)
+  std::string kind = "clutter";  // --kind: proxseg::clutter_kind
   unsigned count = 0, first_seed = 1;
   std::string models;
 };

@@ -82,9 +82,13 @@ int run_segment(const SegmentCommand& o) {
     std::string written;
     for (const auto& f : proxseg::output_files(o.output, outputs, false))
       written += (written.empty() ? "" : " ") + f;
-    std::cout << written << ": " << result.voxels.size() << " voxels, "
-              << result.initial_centroids.size() << " initial centroids, k = " << result.k() << ", "
-              << report["selection"]["candidates"].get<int>() << " candidates, "
+    std::cout << written << ": ";
+    if (result.paper_labels)
+      std::cout << result.voxels.size() << " voxels, " << result.initial_centroids.size()
+                << " initial centroids, k = " << result.k() << ", ";
+    else
+      std::cout << result.label_sizes.size() - 1 << " surfaces, ";
+    std::cout << report["selection"]["candidates"].get<int>() << " candidates, "
               << report["times_ms"]["total"].get<double>() << " ms\n";
   }
   return 0;

@@ -34,6 +34,11 @@ void add_synth(CLI::App& app, SynthOptions& o) {
           ->needs(clutter_flag);
   cmd->add_option("--first-seed", o.first_seed, "With --count: the first seed (1)")
       ->needs(count_opt);
+  cmd->add_option("--kind", o.kind,
+                  "With --clutter: clutter (default), piles (boxes face to face and stacked) or "
+                  "occlusion (a low camera over a dense layout); --count names files KIND-SSS.pcd")
+      ->check(CLI::IsMember({"clutter", "piles", "occlusion"}))
+      ->needs(clutter_flag);
   cmd->add_option("--models", o.models,
                   "With --clutter: folder of LINEMOD obj_*.ply meshes in mm (default "
                   "../shared/data/lmo/models if present, else boxes and cylinders only)")
@@ -45,7 +50,7 @@ namespace {
 
 // `synth --clutter`: one scene (-o FILE) or --count scenes (-o DIR/clutter-SSS.pcd).
 int run_clutter(const SynthOptions& o) {
-  proxseg::ClutterParams p;
+  proxseg::ClutterParams p = proxseg::clutter_kind(o.kind);
   p.depth_noise = o.noise;
   p.models_dir = o.models;
   const std::string lmo = "../shared/data/lmo/models";
@@ -58,14 +63,14 @@ int run_clutter(const SynthOptions& o) {
     const proxseg::ClutterScene scene = proxseg::clutter_layout_scene(p);
     make_parent(o.output);
     proxseg::write_pcd(o.output, scene.frame, {{"label", scene.frame.label}});
-    std::cout << o.output << ": clutter scene seed " << o.seed << ", "
+    std::cout << o.output << ": " << o.kind << " scene seed " << o.seed << ", "
               << proxseg::clutter_summary(scene) << ", ground truth in field 'label'\n";
     return 0;
   }
   if (o.first_seed + static_cast<std::uint64_t>(o.count) - 1 > 0xffffffffull)
     throw InputError("--first-seed, --count: the seeds must stay below 2^32");
   const std::filesystem::path dir(o.output);
-  make_parent((dir / "clutter-000.pcd").string());
+  make_parent((dir / (o.kind + "-000.pcd")).string());
   catch_interrupts();
   Progress progress(o.count);
   const auto start = std::chrono::steady_clock::now();
@@ -73,15 +78,16 @@ int run_clutter(const SynthOptions& o) {
   unsigned done = 0;
   for (; done < o.count && !interrupted(); ++done) {
     p.seed = o.first_seed + done;
-    char name[32];
-    std::snprintf(name, sizeof name, "clutter-%03u.pcd", p.seed);
+    char number[16];
+    std::snprintf(number, sizeof number, "-%03u.pcd", p.seed);
+    const std::string name = o.kind + number;
     const proxseg::ClutterScene scene = proxseg::clutter_layout_scene(p);
     proxseg::write_pcd((dir / name).string(), scene.frame, {{"label", scene.frame.label}});
     objects += scene.objects.size();
-    progress.step(std::string(name) + ": " + proxseg::clutter_summary(scene));
+    progress.step(name + ": " + proxseg::clutter_summary(scene));
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << o.output << ": " << done << " clutter scenes (seeds " << o.first_seed << "-"
+  std::cout << o.output << ": " << done << " " << o.kind << " scenes (seeds " << o.first_seed << "-"
             << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << objects << " objects, " << s
             << " s" << (interrupted() ? " (interrupted)" : "") << "\n";
   return interrupted() ? kInterruptedExit : 0;

@@ -72,18 +72,32 @@ TEST(Cli, SegmentsARealSceneIntoThreeFiles) {
   EXPECT_EQ(f.width, 640);
   EXPECT_EQ(f.height, 480);
   ASSERT_EQ(f.label.size(), f.size());
-  for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(f.label[i] == 0, !f.valid(i)) << i;
+  // The default's labels are the image-grid surfaces: none on invalid points.
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (!f.valid(i)) {
+      ASSERT_EQ(f.label[i], 0u) << i;
+    }
   const nlohmann::json j = nlohmann::json::parse(slurp(o.string() + ".json"));
   EXPECT_EQ(j["parameters"]["voxels"]["voxel_size"], 0.02);
   EXPECT_EQ(j["parameters"]["mrf"]["method"], "swap");
-  for (const char* stage : {"voxels", "features", "initial_clustering", "kmeans", "mrf", "total"})
+  EXPECT_FALSE(j["parameters"]["paper_labels"].get<bool>());
+  for (const char* stage : {"grid_surfaces", "selection", "total"})
     EXPECT_GE(j["times_ms"][stage].get<double>(), 0.0) << stage;
-  EXPECT_GE(j["k"].get<int>(), 2);
-  EXPECT_LE(j["mrf"]["energy_after"].get<double>(), j["mrf"]["energy_before"].get<double>());
-  EXPECT_GT(j["voxels"]["count"].get<int>(), 2000);
+  // --paper-labels: every valid point takes one of the paper's labels, and stages 2-6 run.
+  const CliRun p = run("segment " + learn0() + " -o " + o.string() + " --paper-labels");
+  ASSERT_EQ(p.code, 0) << p.err;
+  const proxseg::Frame g = proxseg::read_pcd(o.string() + ".pcd");
+  for (std::size_t i = 0; i < g.size(); ++i) ASSERT_EQ(g.label[i] == 0, !g.valid(i)) << i;
+  const nlohmann::json k = nlohmann::json::parse(slurp(o.string() + ".json"));
+  for (const char* stage : {"voxels", "features", "initial_clustering", "kmeans", "mrf", "total"})
+    EXPECT_GE(k["times_ms"][stage].get<double>(), 0.0) << stage;
+  EXPECT_GE(k["k"].get<int>(), 2);
+  EXPECT_LE(k["mrf"]["energy_after"].get<double>(), k["mrf"]["energy_before"].get<double>());
+  EXPECT_GT(k["voxels"]["count"].get<int>(), 2000);
   std::size_t labelled = 0;
-  for (const auto& l : j["labels"]) labelled += l["points"].get<std::size_t>();
-  EXPECT_EQ(labelled, f.valid_count());
+  for (const auto& l : k["labels"]) labelled += l["points"].get<std::size_t>();
+  EXPECT_EQ(labelled, g.valid_count());
+  EXPECT_EQ(j["k"], 0);  // the default: surfaces, not the paper's labels
   const cv::Mat png = cv::imread(o.string() + ".png");
   EXPECT_EQ(png.cols, 640);
   EXPECT_EQ(png.rows, 480);
@@ -111,8 +125,8 @@ TEST(Cli, SegmentsAnXyzOnlyCloudWithoutColourAndTexture) {
   const fs::path o = kTmp / "xyz", dir = kTmp / "xyz-candidates";
   fs::remove_all(dir);
   for (const char* ext : {".pcd", ".png", ".json"}) fs::remove(o.string() + ext);
-  const CliRun r =
-      run("segment " + input + " -o " + o.string() + " --candidates-dir " + dir.string());
+  const CliRun r = run("segment " + input + " -o " + o.string() + " --candidates-dir " +
+                       dir.string() + " --paper-labels");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(
       r.err.find("proxseg: " + input + " has no colour: the colour and texture blocks are off\n"),

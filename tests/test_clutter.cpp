@@ -353,6 +353,45 @@ TEST(Clutter, BadModelsFolderOrParamsAreRejected) {
   EXPECT_THROW(clutter_layout_scene(q), std::invalid_argument);
 }
 
+// The kinds of the development sets: piles put boxes face to face (turned by a multiple of 90
+// degrees from the box beside them, within a footprint gap of 2 mm); the occlusion kind looks
+// from low (12-30 degrees) and puts objects in front of others, so that some are seen in pieces.
+TEST(Clutter, PilesAndOcclusionKinds) {
+  int flush = 0, low = 0, in_front = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    ClutterParams piles = clutter_kind("piles");
+    piles.seed = seed;
+    piles.models_dir = kModels;
+    const ClutterScene a = clutter_layout_scene(piles);
+    for (const ClutterObject& o : a.objects) {
+      if (o.kind != ClutterKind::box || o.neighbour == 0 || o.pose == ClutterPose::leaning)
+        continue;
+      const ClutterObject& nb = a.objects[o.neighbour / 10 - 2];
+      if (nb.kind != ClutterKind::box || o.gap > 0.002 + 1e-9) continue;
+      const Eigen::Vector3d x = o.world_from_object.linear().col(0),
+                            y = nb.world_from_object.linear().col(0);
+      const double turn = std::atan2(x.y(), x.x()) - std::atan2(y.y(), y.x());
+      const double off = std::remainder(turn, M_PI / 2) * 180 / M_PI;
+      flush += std::abs(off) <= 1.0 + 1e-6;
+    }
+    ClutterParams occlusion = clutter_kind("occlusion");
+    occlusion.seed = seed;
+    occlusion.models_dir = kModels;
+    const ClutterScene b = clutter_layout_scene(occlusion);
+    low += b.elevation_deg >= 12 && b.elevation_deg <= 30;
+    for (const ClutterObject& o : b.objects) in_front += o.neighbour != 0 && o.gap >= 0.02 - 1e-9;
+  }
+  EXPECT_GE(flush, 6);
+  EXPECT_EQ(low, 6);
+  EXPECT_GE(in_front, 6);
+  EXPECT_THROW(clutter_kind("heap"), InputError);
+  // The default kind is the generator's defaults: the development set is unchanged.
+  ClutterParams plain = clutter_kind("clutter");
+  plain.seed = 3;
+  plain.models_dir = kModels;
+  EXPECT_EQ(clutter_scene(plain).label, clutter_scene(params(3)).label);
+}
+
 TEST(ClutterCli, WritesOneSceneOrANumberedFolder) {
   using namespace cli_test;
   const fs::path one = kTmp / "one.pcd", dir = kTmp / "batch";
@@ -377,6 +416,16 @@ TEST(ClutterCli, WritesOneSceneOrANumberedFolder) {
   EXPECT_FALSE(fs::exists(dir / "clutter-012.pcd"));
   EXPECT_NE(r.err.find("3/3"), std::string::npos) << r.err;  // progress on stderr
   EXPECT_EQ(read_pcd((dir / "clutter-010.pcd").string()).label, clutter_scene(params(10)).label);
+
+  // --kind names the files after the kind and draws its scenes.
+  r = run_in(kTmp, "synth --clutter --kind piles --count 1 --first-seed 2 --models " + kModels +
+                       " -o " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ClutterParams piles = clutter_kind("piles");
+  piles.seed = 2;
+  piles.models_dir = kModels;
+  EXPECT_EQ(read_pcd((dir / "piles-002.pcd").string()).label, clutter_scene(piles).label);
+  EXPECT_EQ(run_in(kTmp, "synth --clutter --kind heap -o " + one.string()).code, 2);
 }
 
 TEST(ClutterCli, BadArgumentsExitWithUsageOrInputErrors) {

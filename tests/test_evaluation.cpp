@@ -45,6 +45,10 @@ TEST(Evaluation, ClutterCategoryNumbersAndFolds) {
   EXPECT_EQ(proxseg::scene_number("table.pcd"), -1);
   EXPECT_EQ(proxseg::scene_fold("learn20.pcd"), "stacked");
   EXPECT_EQ(proxseg::scene_fold("clutter-001.pcd"), "clutter-odd");
+  EXPECT_EQ(proxseg::scene_category("piles-003.pcd"), "piles");
+  EXPECT_EQ(proxseg::scene_category("occlusion-004.pcd"), "occlusion");
+  EXPECT_EQ(proxseg::scene_fold("piles-003.pcd"), "piles-odd");
+  EXPECT_EQ(proxseg::scene_fold("occlusion-004.pcd"), "occlusion-even");
   EXPECT_EQ(proxseg::scene_fold("clutter-002.pcd"), "clutter-even");
   EXPECT_EQ(proxseg::scene_fold("clutter-059.pcd"), "clutter-odd");
   EXPECT_EQ(proxseg::scene_fold("clutter.pcd"), "clutter-even");

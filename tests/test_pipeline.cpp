@@ -49,6 +49,13 @@ int objects_apart(const std::vector<std::uint32_t>& truth, const std::vector<std
   return apart;
 }
 
+// The parameters with the paper's labels (stages 2-6) computed: the tests of those stages.
+SegmentParams labelled() {
+  SegmentParams p;
+  p.paper_labels = true;
+  return p;
+}
+
 void expect_every_valid_point_labelled(const Frame& f, const SegmentResult& r) {
   ASSERT_EQ(r.point_labels.size(), f.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
@@ -63,7 +70,7 @@ void expect_every_valid_point_labelled(const Frame& f, const SegmentResult& r) {
 
 TEST(Pipeline, RealMosdSceneSeparatesObjectsFromTable) {
   const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
-  const SegmentResult r = segment(f, SegmentParams{});
+  const SegmentResult r = segment(f, labelled());
   expect_every_valid_point_labelled(f, r);
   // Intermediate stages are exposed and consistent.
   EXPECT_EQ(r.features.rows(), static_cast<Eigen::Index>(r.clustered.size()));
@@ -91,7 +98,7 @@ TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
   for (const char* scene :
        {"mosd/learn/learn0.pcd", "mosd/learn/learn20.pcd", "mosd/learn/learn30.pcd"}) {
     const Frame f = read_pcd(data(scene));
-    SegmentParams p;
+    SegmentParams p = labelled();
     const auto truth = mosd_objects(f.label);
     v_mrf += v_measure(truth, segment(f, p).point_labels).v;
     p.mrf.enabled = false;
@@ -105,7 +112,7 @@ TEST(Pipeline, MrfImprovesVMeasureOnMosdScenes) {
 TEST(Pipeline, DefaultStopsAfterTwoSweepsPaperConverges) {
   // learn0 takes more than two sweeps to converge under both presets (docs/method.md, MRF).
   const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
-  SegmentParams p;
+  SegmentParams p = labelled();
   EXPECT_EQ(p.mrf.max_cycles, 2);
   const SegmentResult fast = segment(f, p);
   EXPECT_EQ(fast.mrf_cycles, 2);
@@ -123,7 +130,7 @@ TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {
   data("ycbv/frames/000001-color.png");
   const Frame f =
       read_rgbd(base + "-color.png", base + "-depth.png", read_ycb_meta(base + "-meta.json"));
-  const SegmentResult r = segment(f, SegmentParams{});
+  const SegmentResult r = segment(f, labelled());
   expect_every_valid_point_labelled(f, r);
   const cv::Mat mask = cv::imread(base + "-label.png", cv::IMREAD_UNCHANGED);
   ASSERT_EQ(mask.total(), f.size());
@@ -136,7 +143,7 @@ TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {
 
 TEST(Pipeline, SyntheticSceneObjectsApartFromTable) {
   const Frame f = synth_scene(SynthParams{});
-  const SegmentResult r = segment(f, SegmentParams{});
+  const SegmentResult r = segment(f, labelled());
   expect_every_valid_point_labelled(f, r);
   const double v = v_measure(f.label, r.point_labels).v;
   std::cout << "synthetic: k = " << r.k() << ", V = " << v << "\n";
@@ -146,7 +153,7 @@ TEST(Pipeline, SyntheticSceneObjectsApartFromTable) {
 
 TEST(Pipeline, SameLabelsWhateverTheThreadCount) {
   const Frame f = read_pcd(data("mosd/learn/learn25.pcd"));
-  SegmentParams p;
+  SegmentParams p = labelled();
   p.threads = 1;
   const SegmentResult one = segment(f, p);
   p.threads = 2;
@@ -158,7 +165,7 @@ TEST(Pipeline, SameLabelsWhateverTheThreadCount) {
 
 TEST(Pipeline, NoMrfAndExpansion) {
   const Frame f = read_pcd(data("mosd/learn/learn33.pcd"));
-  SegmentParams p;
+  SegmentParams p = labelled();
   p.mrf.enabled = false;
   const SegmentResult km = segment(f, p);
   EXPECT_EQ(km.labels, km.labels_kmeans);
@@ -173,7 +180,7 @@ TEST(Pipeline, NoMrfAndExpansion) {
 TEST(Pipeline, UnorganizedCloudHasNoTextureButIsLabelled) {
   const Frame f = read_pcd(data("pcl/milk.pcd"));
   ASSERT_FALSE(f.organized());
-  const SegmentResult r = segment(f, SegmentParams{});
+  const SegmentResult r = segment(f, labelled());
   expect_every_valid_point_labelled(f, r);
   EXPECT_EQ(r.features.middleCols(kColourDims, kTextureDims).cwiseAbs().maxCoeff(), 0.f);
   EXPECT_GT(r.features.leftCols(kColourDims).cwiseAbs().maxCoeff(), 0.f);
@@ -181,7 +188,7 @@ TEST(Pipeline, UnorganizedCloudHasNoTextureButIsLabelled) {
 
 TEST(Pipeline, SparseVoxelsInheritTheNearestLabel) {
   const Frame f = read_pcd(data("mosd/learn/learn10.pcd"));
-  SegmentParams p;
+  SegmentParams p = labelled();
   p.voxels.min_points_per_voxel = 60;  // many cells too sparse to cluster
   const SegmentResult r = segment(f, p);
   EXPECT_LT(r.clustered.size(), r.voxels.size());
@@ -194,7 +201,40 @@ TEST(Pipeline, NoValidPointIsAnInputError) {
   f.height = 1;
   f.xyz.assign(4, Eigen::Vector3f::Constant(std::nanf("")));
   f.rgb.assign(4, Rgb{0, 0, 0});
+  EXPECT_THROW(segment(f, labelled()), InputError);
   EXPECT_THROW(segment(f, SegmentParams{}), InputError);
+}
+
+// The default's image-grid selection does not consult the paper's labels, so it does not compute
+// them: the same instances as with them computed, the surfaces as its labels, and none of stages
+// 2-6 in its times. Asking for them (or consulting them) computes them.
+TEST(Pipeline, DefaultSkipsThePaperLabelsItDoesNotConsult) {
+  for (const char* scene : {"mosd/learn/learn0.pcd", "mosd/learn/learn29.pcd"}) {
+    const Frame f = read_pcd(data(scene));
+    const SegmentResult fast = segment(f, SegmentParams{});
+    const SegmentResult full = segment(f, labelled());
+    EXPECT_FALSE(fast.paper_labels);
+    EXPECT_TRUE(full.paper_labels);
+    EXPECT_EQ(fast.selection.instance, full.selection.instance) << scene;
+    EXPECT_EQ(fast.k(), 0);
+    EXPECT_EQ(fast.voxels.size(), 0u);
+    std::vector<std::string> stages;
+    for (const auto& [stage, ms] : fast.times_ms) stages.push_back(stage);
+    EXPECT_EQ(stages, (std::vector<std::string>{"grid_surfaces", "selection"}));
+    // Labels: the surfaces, every valid point in one (or in none), invalid points 0.
+    std::size_t unlabelled = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      if (!f.valid(i)) {
+        ASSERT_EQ(fast.point_labels[i], 0u);
+      }
+      unlabelled += f.valid(i) && fast.point_labels[i] == 0;
+    }
+    EXPECT_LT(unlabelled, f.valid_count() / 100) << scene;
+    SegmentParams consulted;
+    consulted.selection.merge_min_agreement = 0.8;
+    EXPECT_TRUE(needs_paper_labels(consulted, f));
+    EXPECT_FALSE(needs_paper_labels(SegmentParams{}, f));
+  }
 }
 
 // An XYZ-only frame is segmented with the colour and texture blocks off: the same features and
@@ -203,14 +243,14 @@ TEST(Pipeline, NoValidPointIsAnInputError) {
 TEST(Pipeline, ColourlessFrameSegmentsWithoutColourAndTexture) {
   const Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
   ASSERT_TRUE(f.coloured());
-  SegmentParams off;
+  SegmentParams off = labelled();
   off.features.use_colour = false;
   off.features.use_texture = false;
   const SegmentResult expected = segment(f, off);
   Frame xyz = f;
   xyz.rgb.clear();
   ASSERT_FALSE(xyz.coloured());
-  const SegmentResult r = segment(xyz, SegmentParams{});
+  const SegmentResult r = segment(xyz, labelled());
   expect_every_valid_point_labelled(xyz, r);
   EXPECT_FALSE(r.blocks.colour);
   EXPECT_FALSE(r.blocks.texture);
@@ -228,14 +268,14 @@ TEST(Pipeline, ColourlessFrameSegmentsWithoutColourAndTexture) {
 TEST(Pipeline, ColourlessUnorganizedCloudIsLabelled) {
   Frame f = read_pcd(data("pcl/milk.pcd"));
   f.rgb.clear();
-  const SegmentResult r = segment(f, SegmentParams{});
+  const SegmentResult r = segment(f, labelled());
   expect_every_valid_point_labelled(f, r);
   EXPECT_FALSE(r.blocks.colour);
   EXPECT_FALSE(r.blocks.texture);
   EXPECT_TRUE(r.blocks.shape);
   EXPECT_GT(r.features.rightCols(kShapeDims).cwiseAbs().maxCoeff(), 0.f);
   // With colours the unorganized cloud has colour but still no texture (no image grid).
-  const SegmentResult coloured = segment(read_pcd(data("pcl/milk.pcd")), SegmentParams{});
+  const SegmentResult coloured = segment(read_pcd(data("pcl/milk.pcd")), labelled());
   EXPECT_TRUE(coloured.blocks.colour);
   EXPECT_FALSE(coloured.blocks.texture);
 }
@@ -244,7 +284,7 @@ TEST(Pipeline, ColoursNotOnePerPointAreAnInputError) {
   Frame f = read_pcd(data("mosd/learn/learn0.pcd"));
   f.rgb.resize(5);
   try {
-    segment(f, SegmentParams{});
+    segment(f, labelled());
     ADD_FAILURE() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("5 colours for 307200 points"), std::string::npos)

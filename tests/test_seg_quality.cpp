@@ -76,11 +76,11 @@ std::vector<Frame> learn_scenes() {
   return out;
 }
 
-std::vector<Frame> clutter_scenes() {
+std::vector<Frame> clutter_scenes(const std::string& kind = "clutter") {
   std::vector<Frame> out;
   for (std::uint32_t seed : {101u, 102u, 103u, 104u, 105u, 106u}) {
-    ClutterParams p;
-    p.seed = seed;  // seeds outside the 1-60 development set
+    ClutterParams p = clutter_kind(kind);
+    p.seed = seed;  // seeds outside the development sets (1-60)
     p.models_dir = kData + "/lmo/models";
     out.push_back(clutter_scene(p));
   }
@@ -117,4 +117,30 @@ TEST(SegQuality, SameResultAtOneAndTwoThreads) {
     EXPECT_EQ(a.point_labels, b.point_labels);
     EXPECT_EQ(a.selection.instance, b.selection.instance);
   }
+}
+
+// Regression guard on the generated piles and occlusion scenes (seeds outside the development
+// sets).
+TEST(SegQuality, PilesAndOcclusionScenesFloor) {
+  for (const char* kind : {"piles", "occlusion"}) {
+    const Quality q = score(clutter_scenes(kind), preset("default"));
+    std::printf("%s: object F %.3f, lost in background %.0f of %.0f\n", kind, q.f, q.lost,
+                q.objects);
+    EXPECT_GE(q.f, 0.89) << kind;
+    EXPECT_LE(q.lost, 0.03 * q.objects) << kind;
+  }
+}
+
+// An object that one in front of it cuts in two is one candidate: learn29 (a box behind a
+// standing box) and learn30 (a lying can behind a box). Without the occlusion join each is two.
+TEST(SegQuality, AnObjectSeenOnBothSidesOfAnotherIsOne) {
+  std::vector<Frame> frames;
+  for (int k : {29, 30})
+    frames.push_back(read_pcd(kData + "/mosd/learn/learn" + std::to_string(k) + ".pcd"));
+  SegmentParams off = preset("default");
+  off.selection.join_occluded = false;
+  const Quality with = score(frames, preset("default")), without = score(frames, off);
+  std::printf("object F with the occlusion join %.3f, without %.3f\n", with.f, without.f);
+  EXPECT_GE(with.f, 0.98);
+  EXPECT_LE(without.f, 0.8);
 }

@@ -35,7 +35,12 @@ def test_labels_equal_the_cli_byte_for_byte(scene, cli_learn):
 def test_result_describes_the_candidates():
     frame = proxseg.read_point_cloud(data("mosd/learn/learn0.pcd"))
     r = proxseg.segment(frame)
-    assert r.labels.max() <= r.k and r.labels.min() == 0
+    # The default's labels are its image-grid surfaces; the paper's labels on request.
+    assert r.k == 0 and r.params.paper_labels is False
+    paper = proxseg.segment(frame, paper_labels=True)
+    assert paper.labels.max() <= paper.k and paper.labels.min() == 0 and paper.k >= 2
+    assert np.array_equal(paper.instances, r.instances)
+    assert set(paper.times_ms) >= {"voxels", "features", "mrf", "selection", "total"}
     assert len(r.candidates) >= 1 and len(r.background) >= 1
     xyz = frame.xyz.reshape(-1, 3)
     for c in r.candidates + r.background:
@@ -46,7 +51,7 @@ def test_result_describes_the_candidates():
         np.testing.assert_allclose(c.box.axes.T @ c.box.axes, np.eye(3), atol=1e-9)
         assert np.all(c.box.extent > 0)
     assert not any(c.background for c in r.candidates)
-    assert set(r.times_ms) >= {"voxels", "features", "mrf", "selection", "total"}
+    assert set(r.times_ms) >= {"grid_surfaces", "selection", "total"}
     assert r.report["proxseg"]["version"] == proxseg.__version__
 
 

@@ -4,6 +4,8 @@
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/selection.hpp>
 
+#include "image_grid.hpp"
+#include "occluded_pieces.hpp"
 #include "selection_detail.hpp"
 #include "util/moments.hpp"
 #include "util/union_find.hpp"
@@ -20,56 +22,11 @@
 namespace proxseg {
 namespace {
 
-constexpr int kNone = -1;
-constexpr int kPlane = -2;  // component id of the support plane's pixels
-
-struct Plane {
-  Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();
-  float offset = 0;  // normal . x + offset = 0 on the plane
-  float distance(const Eigen::Vector3f& x) const { return normal.dot(x) + offset; }
-};
-
-// The image grid: pixel neighbours, the range of every pixel (distance from the sensor, whatever
-// way its axes point: PCL's sample scenes look down -z) and the depth-step test between pixels.
-struct ImageGrid {
-  ImageGrid(const Frame& f, float ratio, int nthreads)
-      : frame(f), step_ratio(ratio), threads(nthreads), range(f.size(), 0.f) {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int p = 0; p < static_cast<int>(f.size()); ++p)
-      if (f.valid(p)) range[p] = f.xyz[p].norm();
-  }
-  const Frame& frame;
-  float step_ratio;
-  int threads;  // for the per-pixel loops; every pixel is written by one iteration
-  std::vector<float> range;
-  int w() const {
-    return frame.width;
-  }
-  int h() const {
-    return frame.height;
-  }
-  bool valid(int i) const {
-    return range[i] > 0;
-  }
-  float z(int i) const {
-    return range[i];
-  }
-  // Neighbouring pixels i and j (both valid) lie on one surface unless their depths differ by
-  // more than step_ratio of the nearer one, times their distance in pixels.
-  bool continuous(int i, int j, int pixels = 1) const {
-    return std::abs(z(i) - z(j)) <= step_ratio * pixels * std::min(z(i), z(j));
-  }
-  // The 4-neighbours of pixel i, -1 outside the image.
-  std::array<int, 4> neighbours(int i) const {
-    const int u = i % w(), v = i / w();
-    return {u > 0 ? i - 1 : -1, u + 1 < w() ? i + 1 : -1, v > 0 ? i - w() : -1,
-            v + 1 < h() ? i + w() : -1};
-  }
-};
-
-bool has_normal(const Eigen::Vector3f& n) {
-  return std::isfinite(n.x());
-}
+using detail::has_normal;
+using detail::ImageGrid;
+using detail::kNone;
+using detail::kPlane;
+using detail::Plane;
 
 Plane fit_plane(const Frame& frame, const std::vector<int>& pixels) {
   const auto [mean, scatter] =
@@ -485,6 +442,8 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
     merge_convex_links(grid, surfaces.normals, surfaces.crease, support, point_labels, params,
                        count, comp);
   if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
+  if (params.join_occluded)
+    detail::join_occluded_pieces(grid, surfaces.normals, params, count, comp);
   trim_flat_base(grid, support, params, comp);
 
   // Instances in the order of their first pixel; the plane is one background instance.

@@ -28,7 +28,9 @@ SegmentParams preset(const std::string& name) {
     p.selection.cut_support_plane = false;
     p.selection.absorb_small = false;
     p.selection.geometry = SelectionParams::Geometry::kVoxels;
+    p.selection.join_occluded = false;
     p.selection.min_candidate_points = 500;  // the threshold this preset has always used
+    p.paper_labels = true;
     return p;
   }
   throw InputError("preset: expected \"default\" or \"paper\", got \"" + name + "\"");
@@ -118,6 +120,18 @@ void validate(const SegmentParams& p) {
           ">= 0 metres");
   require(sp.merge_min_agreement >= 0 && sp.merge_min_agreement <= 1,
           "selection.merge_min_agreement", "in [0, 1]");
+  require(sp.occlusion_window >= 1 && sp.occlusion_window <= 10000, "selection.occlusion_window",
+          "1..10000 pixels");
+  require(sp.occlusion_min_rays >= 1, "selection.occlusion_min_rays", ">= 1");
+  require(sp.occlusion_min_share >= 0 && sp.occlusion_min_share <= 1,
+          "selection.occlusion_min_share", "in [0, 1]");
+  require(finite(sp.occlusion_normal_tolerance_deg) && sp.occlusion_normal_tolerance_deg >= 0 &&
+              sp.occlusion_normal_tolerance_deg <= 180,
+          "selection.occlusion_normal_tolerance_deg", "0..180 degrees");
+  require(finite(sp.occlusion_surface_tolerance) && sp.occlusion_surface_tolerance >= 0,
+          "selection.occlusion_surface_tolerance", ">= 0 metres");
+  require(sp.occlusion_min_colour >= 0 && sp.occlusion_min_colour <= 1,
+          "selection.occlusion_min_colour", "in [0, 1]");
   require(sp.island_missing_share >= 0 && sp.island_missing_share <= 1,
           "selection.island_missing_share", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");

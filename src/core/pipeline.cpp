@@ -7,6 +7,7 @@
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include <omp.h>
+#include <functional>
 
 namespace proxseg {
 namespace {
@@ -92,15 +93,19 @@ FeatureBlocks feature_blocks(const FeatureParams& features, bool coloured, bool 
   return b;
 }
 
-SegmentResult segment(const Frame& frame, const SegmentParams& params) {
-  validate(params);
-  if (frame.coloured() && frame.rgb.size() != frame.size())
-    throw InputError("frame: " + std::to_string(frame.rgb.size()) + " colours for " +
-                     std::to_string(frame.size()) + " points (expected one per point, or none)");
-  SegmentResult r;
-  detail::Stopwatch watch, whole;
-  // An XYZ-only frame: the colour and texture blocks are off for this call, as if not asked for.
-  r.blocks = feature_blocks(params.features, frame.coloured(), frame.organized());
+namespace {
+
+bool on_image_grid(const SegmentParams& params, const Frame& frame) {
+  return params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
+}
+
+// Stages 1-6, the paper's labels [3.1-3.2]. On an organized frame with the image-grid selection
+// its geometry (read_geometry) runs on a second thread beside stages 3-6, after the features and
+// the principal axes, which use every thread themselves.
+void paper_labels(const Frame& frame, const SegmentParams& params,
+                  const std::function<void(const std::vector<char>&)>& read_geometry,
+                  SegmentResult& r) {
+  detail::Stopwatch watch;
   const FeatureParams features = effective_features(params.features, r.blocks);
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
@@ -125,20 +130,6 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
   r.space = principal_axes(r.features, params.clustering.pca_dims, params.threads,
                            params.clustering.pca_solver);
 
-  // The image-grid geometry of the selection (7) needs only the frame: with a second thread it is
-  // read beside stages 3-6's colour labels (after the features and the principal axes, which use
-  // every thread themselves).
-  const bool on_grid =
-      params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
-  const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
-  const bool beside = on_grid && nthreads > 1;
-  GridSurfaces surfaces;
-  double surfaces_ms = 0;
-  auto read_geometry = [&] {
-    detail::Stopwatch own;
-    surfaces = grid_surfaces(frame, voxelised(r.voxels), params.selection, 1);
-    surfaces_ms = own.lap();
-  };
   auto colour_labels = [&] {
     const Eigen::MatrixXd x = project(r.space, r.features);
     r.initial_centroids = initial_centroids(x, graph, r.space.variances, params.clustering);
@@ -178,19 +169,84 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
                                 : r.point_labels;
     r.times_ms.emplace_back("point_labels", watch.lap());
   };
-  if (beside)
-    detail::run_beside(true, colour_labels, read_geometry);
-  else
+  const std::vector<char> labelled = voxelised(r.voxels);
+  const int nthreads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  if (read_geometry && nthreads > 1) {
+    detail::run_beside(true, colour_labels, [&] { read_geometry(labelled); });
+  } else {
     colour_labels();
+    if (read_geometry) read_geometry(labelled);
+  }
+}
+
+// Without the paper's labels the image-grid surfaces are the labels the selection starts from:
+// surface i is label i + 1, the support plane count + 1; points outside `within` have none.
+void surface_labels(const GridSurfaces& surfaces, const std::vector<char>& within,
+                    SegmentResult& r) {
+  const auto plane = static_cast<std::uint32_t>(surfaces.count + 1);
+  r.point_labels.assign(surfaces.surface.size(), 0);
+  r.label_sizes.assign(static_cast<std::size_t>(surfaces.count) + 2, 0);
+  for (std::size_t p = 0; p < surfaces.surface.size(); ++p) {
+    const int s = within[p] ? surfaces.surface[p] : -1;
+    r.point_labels[p] = s >= 0 ? static_cast<std::uint32_t>(s + 1) : s == -2 ? plane : 0;
+    ++r.label_sizes[r.point_labels[p]];
+  }
+  r.point_labels_kmeans = r.point_labels;
+}
+
+}  // namespace
+
+bool needs_paper_labels(const SegmentParams& params, const Frame& frame) {
+  return params.paper_labels || !on_image_grid(params, frame) ||
+         params.selection.merge_min_agreement > 0;
+}
+
+SegmentResult segment(const Frame& frame, const SegmentParams& params) {
+  validate(params);
+  if (frame.coloured() && frame.rgb.size() != frame.size())
+    throw InputError("frame: " + std::to_string(frame.rgb.size()) + " colours for " +
+                     std::to_string(frame.size()) + " points (expected one per point, or none)");
+  SegmentResult r;
+  detail::Stopwatch whole;
+  // An XYZ-only frame: the colour and texture blocks are off for this call, as if not asked for.
+  r.blocks = feature_blocks(params.features, frame.coloured(), frame.organized());
+  r.paper_labels = needs_paper_labels(params, frame);
+  const bool on_grid = on_image_grid(params, frame);
+
+  // The image-grid geometry of the selection (7) needs only the frame: normals, support plane,
+  // creases, surfaces.
+  GridSurfaces surfaces;
+  double surfaces_ms = 0;
+  auto read_geometry = [&](const std::vector<char>& labelled, int threads) {
+    detail::Stopwatch own;
+    surfaces = grid_surfaces(frame, labelled, params.selection, threads);
+    surfaces_ms = own.lap();
+  };
+  if (r.paper_labels) {
+    // 1-6: the paper's labels, with the geometry on a second thread beside stages 3-6.
+    std::function<void(const std::vector<char>&)> beside;
+    if (on_grid) beside = [&](const std::vector<char>& labelled) { read_geometry(labelled, 1); };
+    paper_labels(frame, params, beside, r);
+    if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);
+  } else {
+    // Without them: the geometry on every thread, its surfaces as the labels. Points too far
+    // out to voxelise are left out as on the paper's path.
+    r.voxels.voxel_size = params.voxels.voxel_size;
+    const std::vector<char> within = voxelisable(frame, params.voxels.voxel_size,
+                                                 r.voxels.valid_points, r.voxels.voxelised_points);
+    if (r.voxels.voxelised_points == 0) throw InputError("frame: no valid points to segment");
+    read_geometry(within, params.threads);
+    surface_labels(surfaces, within, r);
+    r.times_ms.emplace_back("grid_surfaces", surfaces_ms);
+  }
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
-  if (on_grid && !beside) read_geometry();
+  detail::Stopwatch watch;
   r.selection = on_grid ? select_on_grid(frame, std::move(surfaces), r.point_labels,
                                          params.selection, params.threads)
                         : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
-  if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);
   r.total_ms = whole.lap();
   return r;
 }

@@ -84,6 +84,24 @@ bool floor_within(double t, int& out) {
 
 }  // namespace
 
+std::vector<char> voxelisable(const Frame& frame, double voxel_size, std::size_t& valid_points,
+                              std::size_t& voxelised_points) {
+  if (!(voxel_size > 0)) throw std::invalid_argument("voxel_size must be > 0");
+  std::vector<char> out(frame.size(), 0);
+  valid_points = voxelised_points = 0;
+  const double inv = 1.0 / voxel_size;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.valid(i)) continue;
+    ++valid_points;
+    const Eigen::Vector3f& p = frame.xyz[i];
+    int c;
+    out[i] = floor_within(p.x() * inv, c) && floor_within(p.y() * inv, c) &&
+             floor_within(p.z() * inv, c);
+    voxelised_points += out[i];
+  }
+  return out;
+}
+
 VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
   if (!(voxel_size > 0)) throw std::invalid_argument("voxel_size must be > 0");
   VoxelGrid grid;

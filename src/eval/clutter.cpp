@@ -656,10 +656,12 @@ void check_params(const ClutterParams& p) {
   if (!(p.min_density > 0 && p.max_density >= p.min_density && p.max_density < 1))
     bad("density range must satisfy 0 < min <= max < 1");
   for (double q : {p.mesh_share, p.box_share, p.flat_share, p.p_touching, p.p_stacked, p.p_leaning,
-                   p.p_lying, p.mesh_recolour})
+                   p.p_lying, p.mesh_recolour, p.p_flush, p.p_front})
     if (!(q >= 0 && q <= 1)) bad("probabilities and shares must be in [0, 1]");
   if (!(p.depth_noise >= 0 && p.disparity_step >= 0 && p.colour_noise >= 0))
     bad("noise must be >= 0");
+  if (!(p.min_front_gap >= 0 && p.max_front_gap >= p.min_front_gap && p.max_front_gap < 1))
+    bad("front gaps must satisfy 0 <= min <= max < 1 m");
   if (p.min_visible_points < 0 || p.max_layouts < 1)
     bad("min_visible_points >= 0, max_layouts >= 1");
   if (!(p.catalogue_share >= 0 && p.catalogue_share <= 1))
@@ -699,6 +701,7 @@ class Layout {
   std::vector<Placed> placed_;
   double table_hx_ = 0, table_hy_ = 0;
   Vec2 area_c_ = Vec2::Zero(), area_h_ = Vec2::Zero();
+  double view_az_ = 0;  // with p_front: the camera's azimuth, drawn before the placement
 
   double size_u(double lo, double hi) {
     return r_.u(std::max(lo, P_.min_size), std::min(hi, P_.max_size));
@@ -839,21 +842,40 @@ class Layout {
 
   // Beside a placed object at a footprint gap in [0, max_touch_gap]: bisection along a random
   // direction from the neighbour's centre (the overlap set along a ray is an interval).
+  bool is_box(const Placed& c) const {
+    return protos_[static_cast<std::size_t>(c.proto)].kind == ClutterKind::box;
+  }
+
   bool place_touching(Placed& c, int trials) {
     const std::vector<int> cand = table_level(false, 0);
     if (cand.empty()) return false;
     for (int k = 0; k < trials; ++k) {
       const int ni = cand[static_cast<std::size_t>(r_.i(0, static_cast<int>(cand.size()) - 1))];
       const Placed& nb = placed_[static_cast<std::size_t>(ni)];
-      const double yaw = r_.u(0, 2 * kPi), dir = r_.u(0, 2 * kPi), gap = r_.u(0, P_.max_touch_gap);
+      double yaw = r_.u(0, 2 * kPi), dir = r_.u(0, 2 * kPi);
+      double gap = r_.u(0, P_.max_touch_gap);
+      // In front: a few centimetres from the neighbour towards the camera, hiding part of it.
+      if (P_.p_front > 0 && r_.p(P_.p_front)) {
+        dir = view_az_ + r_.u(-1, 1) * kPi / 8;
+        gap = r_.u(P_.min_front_gap, P_.max_front_gap);
+      }
+      Vec2 from = nb.t;
+      // Flush: two boxes face to face, as in a pile (drawn only when asked for, so that scenes
+      // without it stay bit-identical).
+      if (P_.p_flush > 0 && is_box(c) && is_box(nb) && r_.p(P_.p_flush)) {
+        yaw = nb.yaw + r_.i(0, 3) * kPi / 2 + r_.u(-1, 1) * kPi / 180;
+        dir = nb.yaw + r_.i(0, 3) * kPi / 2;
+        const Vec2 along(-std::sin(dir), std::cos(dir));
+        from += r_.u(-0.5, 0.5) * std::min(c.rest.radius, nb.rest.radius) * along;
+      }
       const Vec2 d(std::cos(dir), std::sin(dir));
       double lo = 0, hi = nb.rest.radius + c.rest.radius + gap + 0.01;
       for (int it = 0; it < 40; ++it) {
         const double mid = (lo + hi) / 2;
-        c.place(yaw, nb.t + mid * d, 0);
+        c.place(yaw, from + mid * d, 0);
         (poly_gap(c.foot, nb.foot) >= gap ? hi : lo) = mid;
       }
-      c.place(yaw, nb.t + hi * d, 0);
+      c.place(yaw, from + hi * d, 0);
       if ((c.t - area_c_).cwiseAbs().maxCoeff() > area_h_.maxCoeff() + 0.1) continue;  // stay near
       if (!fits(c)) continue;
       c.nb = ni;
@@ -985,6 +1007,7 @@ bool Layout::run(ClutterScene& out) {
   table_hx_ = table_w / 2;
   table_hy_ = table_d / 2;
   const TableFn table_colour = table_texture(r_, out.table);
+  if (P_.p_front > 0) view_az_ = r_.u(0, 2 * kPi);  // drawn only then: other scenes unchanged
   const double light_el = r_.u(P_.min_light_elevation_deg, P_.max_light_elevation_deg) * kPi / 180;
   const double light_az = r_.u(0, 2 * kPi);
   const Vec3 light(std::cos(light_el) * std::cos(light_az), std::cos(light_el) * std::sin(light_az),
@@ -1123,7 +1146,7 @@ bool Layout::run(ClutterScene& out) {
   bool found = false;
   for (int k = 0; k < kCameras && !found; ++k) {
     const double el = r_.u(P_.min_elevation_deg, P_.max_elevation_deg) * kPi / 180;
-    const double az = r_.u(0, 2 * kPi);
+    const double az = P_.p_front > 0 ? view_az_ + r_.u(-1, 1) * kPi / 12 : r_.u(0, 2 * kPi);
     const Vec3 target(area_c_.x() + r_.u(-1, 1) * P_.target_jitter,
                       area_c_.y() + r_.u(-1, 1) * P_.target_jitter, r_.u(0.02, 0.06));
     const Vec3 back(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
@@ -1248,6 +1271,31 @@ void shade(Mesh& m, const Vec3& light, double ambient, double exposure, const Ve
     const Rgb c = m.colours[i];
     m.colours[i] = to_rgb8(Col(c[0], c[1], c[2]) * b);
   }
+}
+
+ClutterParams clutter_kind(const std::string& kind) {
+  ClutterParams p;
+  if (kind == "clutter") return p;
+  if (kind == "piles") {
+    // Boxes face to face, stacked and side by side: where geometry alone sees one surface.
+    p.min_objects = 6, p.max_objects = 14;
+    p.mesh_share = 0.1, p.box_share = 0.8, p.flat_share = 0.05;
+    p.p_touching = 0.65, p.p_stacked = 0.25, p.p_leaning = 0.05, p.p_flush = 0.85;
+    p.max_touch_gap = 0.002;
+    p.p_lying = 0.3;
+    p.min_density = 0.4, p.max_density = 0.6;
+    return p;
+  }
+  if (kind == "occlusion") {
+    // A low camera over a dense layout: objects hidden in part, often in two pieces.
+    p.min_elevation_deg = 12, p.max_elevation_deg = 30;
+    p.min_density = 0.3, p.max_density = 0.45;
+    p.mesh_share = 0.3, p.box_share = 0.35;  // more cylinders: narrow occluders
+    p.p_touching = 0.6, p.p_front = 0.6;
+    return p;
+  }
+  throw InputError("clutter kind: expected \"clutter\", \"piles\" or \"occlusion\", got \"" + kind +
+                   "\"");
 }
 
 ClutterScene clutter_layout_scene(const ClutterParams& params) {

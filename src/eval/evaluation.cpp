@@ -80,7 +80,8 @@ std::string scene_category(const std::string& scene_name) {
   static const std::regex learn(R"(^learn(\d+)(\.\w+)?$)");
   std::smatch m;
   const std::string name = std::filesystem::path(scene_name).filename().string();
-  if (name.rfind("clutter", 0) == 0) return "clutter";
+  for (const char* kind : {"clutter", "piles", "occlusion"})  // generated: clutter_kind()
+    if (name.rfind(kind, 0) == 0) return kind;
   if (!std::regex_match(name, m, learn)) return "other";
   const int i = std::stoi(m[1]);
   return i <= 16   ? "boxes"
@@ -100,9 +101,9 @@ long scene_number(const std::string& scene_name) {
 
 std::string scene_fold(const std::string& scene_name) {
   const std::string category = scene_category(scene_name);
-  if (category != "clutter") return category;
+  if (category != "clutter" && category != "piles" && category != "occlusion") return category;
   const long n = scene_number(scene_name);
-  return n >= 0 && n % 2 == 1 ? "clutter-odd" : "clutter-even";
+  return category + (n >= 0 && n % 2 == 1 ? "-odd" : "-even");
 }
 
 std::vector<std::filesystem::path> scene_files(const std::string& dir,

@@ -241,6 +241,9 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   j["concurrent_times_ms"] = concurrent;
   j["voxels"] = {{"count", r.voxels.size()}, {"clustered", r.clustered.size()}};
   j["initial_centroids"] = r.initial_centroids.size();
+  // Whether stages 2-6 ran (needs_paper_labels); without them "labels" are the image-grid
+  // surfaces and k is 0.
+  j["paper_labels"] = r.paper_labels;
   j["k"] = r.k();
   j["kmeans_iterations"] = r.kmeans_iterations;
   j["mrf"] = {{"enabled", params.mrf.enabled},

@@ -93,6 +93,14 @@ void fields(P& p, F&& f) {
   f("selection", "bridge_tolerance", p.selection.bridge_tolerance);
   f("selection", "merge_min_agreement", p.selection.merge_min_agreement);
   f("selection", "island_missing_share", p.selection.island_missing_share);
+  f("selection", "join_occluded", p.selection.join_occluded);
+  f("selection", "occlusion_window", p.selection.occlusion_window);
+  f("selection", "occlusion_min_rays", p.selection.occlusion_min_rays);
+  f("selection", "occlusion_min_share", p.selection.occlusion_min_share);
+  f("selection", "occlusion_normal_tolerance_deg", p.selection.occlusion_normal_tolerance_deg);
+  f("selection", "occlusion_surface_tolerance", p.selection.occlusion_surface_tolerance);
+  f("selection", "occlusion_min_colour", p.selection.occlusion_min_colour);
+  f("", "paper_labels", p.paper_labels);
   f("", "threads", p.threads);
 }
 

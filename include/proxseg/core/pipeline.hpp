@@ -21,6 +21,12 @@ struct SegmentParams {
   KMeansParams kmeans;
   MrfParams mrf;
   SelectionParams selection;
+  // Whether the paper's labels (stages 2-6: features, Algorithm 1, k-means, MRF, point labels)
+  // are computed when nothing needs them. The voxel selection always needs them (the paper
+  // preset, unorganized frames), and the image-grid selection when merge_min_agreement > 0; the
+  // default's image-grid selection does not consult them, and on its development sets they
+  // changed no answer (docs/method.md, "What each stage buys"), so it skips them unless asked.
+  bool paper_labels = false;
   int threads = 0;  // 0 = all cores; results do not depend on it
 };
 
@@ -39,7 +45,15 @@ struct FeatureBlocks {
 // also needs the image grid.
 FeatureBlocks feature_blocks(const FeatureParams& features, bool coloured, bool organized);
 
+// Whether segment() computes the paper's labels (stages 2-6) for a frame under params.
+bool needs_paper_labels(const SegmentParams& params, const Frame& frame);
+
 struct SegmentResult {
+  // Whether the labels below are the paper's (stages 2-6). Without them (needs_paper_labels
+  // false) the voxel and label fields are empty, point_labels (= point_labels_kmeans) holds the
+  // image-grid surfaces the selection starts from (1..n, the support plane n + 1, 0 for none)
+  // and k() is 0.
+  bool paper_labels = true;
   VoxelGrid voxels;
   std::vector<int> clustered;               // voxels that were clustered (>= min_points_per_voxel)
   FeatureBlocks blocks;                     // the blocks computed (feature_blocks)
@@ -51,7 +65,7 @@ struct SegmentResult {
   std::vector<int> labels;                  // per clustered voxel after the MRF (= k-means if off)
   double energy_before = 0, energy_after = 0;
   int kmeans_iterations = 0, mrf_cycles = 0;
-  std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k
+  std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k (above)
   std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
   std::vector<std::size_t> label_sizes;                  // points per label: [0] unlabelled, 1..k
   Selection selection;                                   // clusters -> candidates [3.3]

@@ -77,10 +77,23 @@ struct SelectionParams {
   int merge_min_links = 20;
   int bridge_window = 24;
   double bridge_tolerance = 0.08;  // metres
-  double merge_min_agreement = 0.8;
+  double merge_min_agreement = 0;  // 0: the paper's labels are not consulted (nor computed)
   // A component with at least island_missing_share of its border beside missing pixels joins the
   // component it has the most rays to (at least merge_min_links).
   double island_missing_share = 0.9;
+  // kImage: pieces of one surface that an object in front cut apart join (join_occluded) when at
+  // least occlusion_min_rays rows, columns or diagonals of at most occlusion_window pixels run
+  // from one to the other across pixels in front of both, most of those rays end on one
+  // continuous surface (normals within occlusion_normal_tolerance_deg, each end within
+  // occlusion_surface_tolerance + 5 % of the gap of the other's tangent plane) and the two
+  // pieces' hue-saturation histograms [3.1] intersect by at least occlusion_min_colour.
+  bool join_occluded = true;
+  int occlusion_window = 120;  // pixels
+  int occlusion_min_rays = 10;
+  double occlusion_min_share = 0.5;  // of the rays between the two, ending on one surface
+  double occlusion_normal_tolerance_deg = 20.0;
+  double occlusion_surface_tolerance = 0.01;  // metres
+  double occlusion_min_colour = 0.4;
 };
 
 // An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and

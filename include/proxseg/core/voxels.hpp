@@ -25,6 +25,10 @@ struct VoxelGrid {
 // Voxels are numbered in ascending key order (z, y, x), so the numbering does not depend on the
 // point order or on threads.
 VoxelGrid build_voxels(const Frame& frame, double voxel_size);
+// Per point, whether build_voxels would put it in a voxel (valid and not too far out), without
+// building the grid; valid_points and voxelised_points count them as build_voxels does.
+std::vector<char> voxelisable(const Frame& frame, double voxel_size, std::size_t& valid_points,
+                              std::size_t& voxelised_points);
 
 // The voxels with at least min_points points.
 std::vector<int> dense_voxels(const VoxelGrid& grid, int min_points);

@@ -76,9 +76,20 @@ struct ClutterParams {
   // A free or touching object lies: a box on its largest face, a cylinder on its side, a mesh
   // turned 90 degrees about its longer horizontal axis (otherwise: upright as modelled).
   double p_lying = 0.25;
-  double max_touch_gap = 0.005;                 // metres
-  double min_lean_deg = 10, max_lean_deg = 30;  // leaning tilt from vertical
-  double max_lean_gap = 0.001;                  // leaning contact gap, metres
+  double max_touch_gap = 0.005;  // metres
+  // A touching box beside a box is placed flush with probability p_flush: turned by a multiple
+  // of 90 degrees (+-1) from its neighbour and moved along one of its face normals, face to face
+  // as in a pile (0: touching boxes take any turn and direction).
+  double p_flush = 0;
+  // A touching object is instead placed in front of its neighbour with probability p_front:
+  // towards the camera (+-22.5 degrees of azimuth), at a footprint gap uniform in
+  // [min_front_gap, max_front_gap], so that it hides part of the neighbour. With p_front > 0 the
+  // camera's azimuth is drawn before the placement and the cameras tried stay within 15 degrees
+  // of it (0: touching only, any azimuth).
+  double p_front = 0;
+  double min_front_gap = 0.02, max_front_gap = 0.08;  // metres
+  double min_lean_deg = 10, max_lean_deg = 30;        // leaning tilt from vertical
+  double max_lean_gap = 0.001;                        // leaning contact gap, metres
   // Layout area (where free objects' centres fall): sum of the footprints / density, density
   // uniform in this range (denser = more contact and occlusion), capped at max_area_half_extent
   // per axis (metres) and 15 cm inside the table; every footprint stays 2 cm inside the table.
@@ -162,6 +173,12 @@ struct ClutterScene {
 // each turned away from it.
 void shade(Mesh& m, const Eigen::Vector3d& light, double ambient, double exposure,
            const Eigen::Vector3d* centre = nullptr);
+
+// Named kinds of generated scene, the development sets of the segmentation (docs/clutter.md):
+// "clutter" (the defaults above: a cluttered tabletop), "piles" (mostly boxes, placed face to
+// face, stacked and touching, in dense piles) and "occlusion" (a low camera over a dense layout:
+// objects seen in pieces behind others). InputError for another name.
+ClutterParams clutter_kind(const std::string& kind);
 
 // Draws and renders one scene; throws InputError for a bad models_dir, std::invalid_argument for
 // inconsistent params, std::runtime_error if no valid layout is found in max_layouts draws.

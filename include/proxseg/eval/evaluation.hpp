@@ -45,8 +45,9 @@ std::string scene_category(const std::string& scene_name);
 long scene_number(const std::string& scene_name);
 
 // The cross-validation fold of a scene (seg_cv): its category for mOSD learn scenes (boxes,
-// stacked, occluded, cylindric), "clutter-odd" / "clutter-even" for clutter scenes by the parity
-// of their number (the seed of the generated scene; no number -> "clutter-even"), "other" else.
+// stacked, occluded, cylindric), "<kind>-odd" / "<kind>-even" for generated scenes (clutter,
+// piles, occlusion: the file name's prefix) by the parity of their number (the seed of the
+// generated scene; no number -> even), "other" else.
 std::string scene_fold(const std::string& scene_name);
 
 // The files of a folder with one of the extensions (lower case), in natural order (learn2 before
