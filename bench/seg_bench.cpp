@@ -345,8 +345,10 @@ int main(int argc, char** argv) {
         const double s = seconds_since(start);
         proxseg::SceneScores sc = proxseg::score_scene(frame, labels);
         sc.scene = file.filename().string();
-        // Every scene of the second set is a clutter scene, whatever its file name.
-        sc.category = set.name == "clutter" ? "clutter" : proxseg::scene_category(sc.scene);
+        // A generated scene's kind is its file name's prefix (clutter, piles, occlusion); every
+        // other scene of the second set counts as clutter.
+        sc.category = proxseg::scene_category(sc.scene);
+        if (set.name == "clutter" && sc.category == "other") sc.category = "clutter";
         sc.method = name;
         sc.seconds = s;
         scores.push_back(sc);

@@ -21,7 +21,10 @@ constexpr int kHueSatBins = 10;  // the paper's colour feature: 10 x 10 hue x sa
 struct RayCount {
   int rays = 0;  // rays from one component to the other across an occluder
   int good = 0;  // of them, ending on one continuous surface
+  int flat = 0;  // of those, continuing one face
 };
+
+enum Continuation { kNoSurface = 0, kConvexBody = 1, kOneFace = 2 };
 
 // A pixel `steps` pixels back along (du, dv) from p that is still in component c and has a
 // normal: the border pixel's own normal is bent by the occluder's depth edge.
@@ -58,21 +61,21 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
   const float tol = static_cast<float>(params.occlusion_surface_tolerance);
   const float noise = static_cast<float>(3 * params.sensor_noise_at_1m);
   static constexpr int kRays[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};  // later pixels
-  // Whether the ends p and q continue one surface: parallel normals, each end near the other's
-  // tangent plane.
+  // How the ends p and q continue one surface, if they do.
   auto continues = [&](int p, int q, int du, int dv) {
     const int a = inside(g, normals, comp, p, -du, -dv, params.image_normal_step);
     const int b = inside(g, normals, comp, q, du, dv, params.image_normal_step);
     const Eigen::Vector3f &na = normals[a], &nb = normals[b];
     const Eigen::Vector3f gap = f.xyz[q] - f.xyz[p];
     const float allowed = tol + 0.05f * gap.norm();
-    if (!has_normal(na) || !has_normal(nb)) return false;
+    if (!has_normal(na) || !has_normal(nb)) return kNoSurface;
     // One face continued: parallel normals, each end near the other's tangent plane.
     if (na.dot(nb) >= cos_tol)
-      return std::abs(na.dot(gap)) <= allowed && std::abs(nb.dot(gap)) <= allowed;
+      return std::abs(na.dot(gap)) <= allowed && std::abs(nb.dot(gap)) <= allowed ? kOneFace
+                                                                                  : kNoSurface;
     // Two faces of one convex body whose edge the occluder hides: each end behind the other's
     // tangent plane (the convex case of LCCP's criterion).
-    return na.dot(gap) < -allowed && nb.dot(gap) > allowed;
+    return na.dot(gap) < -allowed && nb.dot(gap) > allowed ? kConvexBody : kNoSurface;
   };
   std::map<std::pair<int, int>, RayCount> pairs;
   for (int v = 0; v < g.h(); ++v)
@@ -97,7 +100,9 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
           if (comp[q] >= 0 && passed >= 2 && front < g.z(q) - margin) {
             RayCount& c = pairs[{std::min(a, comp[q]), std::max(a, comp[q])}];
             ++c.rays;
-            c.good += continues(p, q, d[0], d[1]);
+            const Continuation how = continues(p, q, d[0], d[1]);
+            c.good += how != kNoSurface;
+            c.flat += how == kOneFace;
           }
           break;
         }
@@ -108,11 +113,14 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
   if (f.coloured()) colour = hue_saturation(f, comp, count);
   bool joined = false;
   for (const auto& [pair, c] : pairs) {
-    if (c.good < params.occlusion_min_rays || c.good < params.occlusion_min_share * c.rays)
-      continue;
-    if (!colour.empty() &&
-        colour[pair.first].cwiseMin(colour[pair.second]).sum() < params.occlusion_min_colour)
-      continue;
+    const double alike =
+        colour.empty() ? 1.0 : colour[pair.first].cwiseMin(colour[pair.second]).sum();
+    const bool face =
+        c.flat >= params.occlusion_min_face_rays && alike >= params.occlusion_min_face_colour;
+    const bool body = c.good >= params.occlusion_min_rays &&
+                      c.good >= params.occlusion_min_share * c.rays &&
+                      alike >= params.occlusion_min_colour;
+    if (!face && !body) continue;
     sets.unite(pair.first, pair.second);
     joined = true;
   }

@@ -10,14 +10,9 @@
 
 namespace proxseg::detail {
 
-// comp: per pixel a component id 0..count-1, kPlane or kNone. Two components join (comp takes
-// the smaller id of each joined set) when at least occlusion_min_rays image rays (rows, columns,
-// diagonals) run from one to the other across pixels that all lie in front of both ends (an
-// occluder; missing pixels are passed too), most such rays end on one continuous surface (the
-// normals at both ends within occlusion_normal_tolerance_deg, each end within
-// occlusion_surface_tolerance plus 5 % of the gap of the other's tangent plane), and, on a
-// coloured frame, the two components' hue-saturation histograms [3.1's colour feature] intersect
-// by at least occlusion_min_colour.
+// comp: per pixel a component id 0..count-1, kPlane or kNone. Components that the rule of
+// SelectionParams::join_occluded pairs are joined: comp takes one id per joined set (the
+// union-find's representative). On a colourless frame the colour tests pass.
 void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
                           const SelectionParams& params, int count, std::vector<int>& comp);
 

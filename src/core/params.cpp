@@ -132,6 +132,9 @@ void validate(const SegmentParams& p) {
           "selection.occlusion_surface_tolerance", ">= 0 metres");
   require(sp.occlusion_min_colour >= 0 && sp.occlusion_min_colour <= 1,
           "selection.occlusion_min_colour", "in [0, 1]");
+  require(sp.occlusion_min_face_rays >= 1, "selection.occlusion_min_face_rays", ">= 1");
+  require(sp.occlusion_min_face_colour >= 0 && sp.occlusion_min_face_colour <= 1,
+          "selection.occlusion_min_face_colour", "in [0, 1]");
   require(sp.island_missing_share >= 0 && sp.island_missing_share <= 1,
           "selection.island_missing_share", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");

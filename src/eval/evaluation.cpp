@@ -142,8 +142,8 @@ std::vector<SummaryRow> summarize(const std::vector<SceneScores>& scenes) {
   for (const auto& s : scenes)
     if (std::find(methods.begin(), methods.end(), s.method) == methods.end())
       methods.push_back(s.method);
-  const std::vector<std::string> categories = {"boxes",   "stacked", "occluded", "cylindric",
-                                               "clutter", "other",   "all"};
+  const std::vector<std::string> categories = {
+      "boxes", "stacked", "occluded", "cylindric", "clutter", "piles", "occlusion", "other", "all"};
   std::vector<SummaryRow> rows;
   for (const auto& method : methods)
     for (const auto& category : categories) {

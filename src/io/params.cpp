@@ -100,6 +100,8 @@ void fields(P& p, F&& f) {
   f("selection", "occlusion_normal_tolerance_deg", p.selection.occlusion_normal_tolerance_deg);
   f("selection", "occlusion_surface_tolerance", p.selection.occlusion_surface_tolerance);
   f("selection", "occlusion_min_colour", p.selection.occlusion_min_colour);
+  f("selection", "occlusion_min_face_rays", p.selection.occlusion_min_face_rays);
+  f("selection", "occlusion_min_face_colour", p.selection.occlusion_min_face_colour);
   f("", "paper_labels", p.paper_labels);
   f("", "threads", p.threads);
 }

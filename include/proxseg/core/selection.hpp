@@ -81,12 +81,15 @@ struct SelectionParams {
   // A component with at least island_missing_share of its border beside missing pixels joins the
   // component it has the most rays to (at least merge_min_links).
   double island_missing_share = 0.9;
-  // kImage: pieces of one surface that an object in front cut apart join (join_occluded) when at
-  // least occlusion_min_rays rows, columns or diagonals of at most occlusion_window pixels run
-  // from one to the other across pixels in front of both, most of those rays end on one
-  // continuous surface (normals within occlusion_normal_tolerance_deg, each end within
-  // occlusion_surface_tolerance + 5 % of the gap of the other's tangent plane) and the two
-  // pieces' hue-saturation histograms [3.1] intersect by at least occlusion_min_colour.
+  // kImage: pieces of one object that an object in front cut apart join (join_occluded). Rays
+  // (rows, columns, diagonals) of at most occlusion_window pixels run from one component to
+  // another across pixels in front of both ends; a ray ends on one surface when the two ends
+  // continue one face (normals within occlusion_normal_tolerance_deg, each end within
+  // occlusion_surface_tolerance + 5 % of the gap of the other's tangent plane) or two faces of a
+  // convex body whose edge is hidden (each end behind the other's tangent plane). Two components
+  // join when at least occlusion_min_rays rays, and occlusion_min_share of the rays between them,
+  // end on one surface and their hue-saturation histograms [3.1] intersect by at least
+  // occlusion_min_colour ...
   bool join_occluded = true;
   int occlusion_window = 120;  // pixels
   int occlusion_min_rays = 10;
@@ -94,6 +97,10 @@ struct SelectionParams {
   double occlusion_normal_tolerance_deg = 20.0;
   double occlusion_surface_tolerance = 0.01;  // metres
   double occlusion_min_colour = 0.4;
+  // ... or when at least occlusion_min_face_rays of the rays continue one face (the stronger
+  // geometric evidence) and the histograms intersect by at least occlusion_min_face_colour.
+  int occlusion_min_face_rays = 3;
+  double occlusion_min_face_colour = 0.2;
 };
 
 // An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
