@@ -2,13 +2,17 @@
 #include <proxseg/core/render.hpp>
 #include <proxseg/core/selection.hpp>
 
+#include "util/parallel_for.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 namespace {
 
@@ -313,4 +317,27 @@ TEST(ImageSelection, AMarkerLyingOnTheTableComesWithoutTheTableAroundIt) {
     else
       EXPECT_GT(table_share(s, instance), 0.2);
   }
+}
+
+// The loop the image-grid selection runs on: every index exactly once, in static blocks or
+// dynamic chunks, at any thread count; an exception reaches the caller after all threads end.
+TEST(ParallelFor, EveryIndexOnceAndExceptionsReachTheCaller) {
+  for (int threads : {1, 2, 3, 8})
+    for (int chunk : {0, 1, 7}) {
+      std::vector<int> seen(1001, 0);
+      proxseg::detail::parallel_for(
+          static_cast<int>(seen.size()), threads, [&](int i) { ++seen[i]; }, chunk);
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 1001) << threads << " " << chunk;
+    }
+  int ran = 0;
+  proxseg::detail::parallel_for(0, 4, [&](int) { ++ran; });
+  EXPECT_EQ(ran, 0);
+  std::atomic<int> done{0};
+  EXPECT_THROW(proxseg::detail::parallel_for(100, 2,
+                                             [&](int i) {
+                                               ++done;
+                                               if (i == 70) throw std::runtime_error("x");
+                                             }),
+               std::runtime_error);
+  EXPECT_GE(done.load(), 51);  // the other block ran to its end
 }

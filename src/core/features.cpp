@@ -2,8 +2,10 @@
 // (normalised eigenvalues, curvature, normal-angle histogram).
 #include <proxseg/core/colour.hpp>
 #include <proxseg/core/features.hpp>
+
 #include "gabor_reference.hpp"
 #include "util/moments.hpp"
+#include "util/parallel_for.hpp"
 
 #include <omp.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
@@ -554,9 +556,9 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   const int w = frame.width, h = frame.height, s = std::max(1, params.normal_step);
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
   cv::Mat xyz(h, w, CV_32FC3), mask(h, w, CV_32F);
-  // Every pixel is written by one iteration: rows can go to any thread.
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-  for (int v = 0; v < h; ++v)
+  // Every pixel is written by one iteration: rows can go to any thread. The loops run on
+  // threads that block when done (parallel_for): this is the image-grid selection's path too.
+  detail::parallel_for(h, nthreads, [&](int v) {
     for (int u = 0; u < w; ++u) {
       const int i = v * w + u;
       const bool ok = frame.valid(i);
@@ -564,22 +566,23 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
           ok ? cv::Vec3f(frame.xyz[i].x(), frame.xyz[i].y(), frame.xyz[i].z()) : cv::Vec3f(0, 0, 0);
       mask.at<float>(v, u) = ok ? 1.f : 0.f;
     }
+  });
   cv::Mat sx, sm;
   cv::boxFilter(xyz, sx, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below), in
   // place: a fresh buffer would cost more in page faults than the divisions it saves.
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-  for (int v = 0; v < h; ++v)
+  detail::parallel_for(h, nthreads, [&](int v) {
     for (int u = 0; u < w; ++u)
       if (mask.at<float>(v, u) > 0)
         sx.at<cv::Vec3f>(v, u) = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
+  });
   static_assert(sizeof(cv::Vec3f) == sizeof(Eigen::Vector3f), "same layout");
   CV_Assert(sx.isContinuous() && mask.isContinuous());
   const auto* smooth = reinterpret_cast<const Eigen::Vector3f*>(sx.ptr<cv::Vec3f>(0));
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-  for (int v = 0; v < h; ++v)
+  detail::parallel_for(h, nthreads, [&](int v) {
     normals_row(frame.xyz.data(), mask.ptr<float>(0), smooth, w, h, s, v, normals.data());
+  });
   return normals;
 }
 

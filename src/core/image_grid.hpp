@@ -3,6 +3,8 @@
 #pragma once
 #include <proxseg/core/frame.hpp>
 
+#include "util/parallel_for.hpp"
+
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
@@ -24,26 +26,18 @@ struct Plane {
 struct ImageGrid {
   ImageGrid(const Frame& f, float ratio, int nthreads)
       : frame(f), step_ratio(ratio), threads(nthreads), range(f.size(), 0.f) {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int p = 0; p < static_cast<int>(f.size()); ++p)
+    parallel_for(static_cast<int>(f.size()), threads, [&](int p) {
       if (f.valid(p)) range[p] = f.xyz[p].norm();
+    });
   }
   const Frame& frame;
   float step_ratio;
-  int threads;  // for the per-pixel loops; every pixel is written by one iteration
+  int threads;  // for the per-pixel loops (parallel_for); every pixel is written by one iteration
   std::vector<float> range;
-  int w() const {
-    return frame.width;
-  }
-  int h() const {
-    return frame.height;
-  }
-  bool valid(int i) const {
-    return range[i] > 0;
-  }
-  float z(int i) const {
-    return range[i];
-  }
+  int w() const { return frame.width; }
+  int h() const { return frame.height; }
+  bool valid(int i) const { return range[i] > 0; }
+  float z(int i) const { return range[i]; }
   // Neighbouring pixels i and j (both valid) lie on one surface unless their depths differ by
   // more than step_ratio of the nearer one, times their distance in pixels.
   bool continuous(int i, int j, int pixels = 1) const {

@@ -73,15 +73,17 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
   if (samples.size() < 3) return out;
   const int hypotheses = std::min<int>(256, static_cast<int>(samples.size()));
   std::vector<double> support(hypotheses, 0);
-#pragma omp parallel for schedule(dynamic, 8) num_threads(g.threads)
-  for (int i = 0; i < hypotheses; ++i) {
-    const int h = samples[static_cast<std::size_t>(i) * samples.size() / hypotheses];
-    const Plane pl{normals[h], -normals[h].dot(f.xyz[h])};
-    double s = 0;
-    for (int p : samples)
-      if (inlier(pl, p)) s += g.z(p) * g.z(p);
-    support[i] = s;
-  }
+  detail::parallel_for(
+      hypotheses, g.threads,
+      [&](int i) {
+        const int h = samples[static_cast<std::size_t>(i) * samples.size() / hypotheses];
+        const Plane pl{normals[h], -normals[h].dot(f.xyz[h])};
+        double s = 0;
+        for (int p : samples)
+          if (inlier(pl, p)) s += g.z(p) * g.z(p);
+        support[i] = s;
+      },
+      8);
   const int best =
       static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
   const int h = samples[static_cast<std::size_t>(best) * samples.size() / hypotheses];
@@ -105,8 +107,8 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
   out.plane = plane;
   out.found = true;
   std::vector<char>& in_plane = out.in_plane;
-#pragma omp parallel for schedule(static) num_threads(g.threads)
-  for (int p = 0; p < static_cast<int>(f.size()); ++p) in_plane[p] = g.valid(p) && inlier(plane, p);
+  detail::parallel_for(static_cast<int>(f.size()), g.threads,
+                       [&](int p) { in_plane[p] = g.valid(p) && inlier(plane, p); });
   return out;
 }
 
@@ -121,8 +123,7 @@ std::vector<char> concave_pixels(const ImageGrid& g, const std::vector<Eigen::Ve
   const float cos_tol = static_cast<float>(std::cos(params.crease_tolerance_deg * M_PI / 180.0));
   std::vector<char> concave(f.size(), 0);
   static constexpr int kDirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-#pragma omp parallel for schedule(static) num_threads(g.threads)
-  for (int v = 0; v < g.h(); ++v)
+  detail::parallel_for(g.h(), g.threads, [&](int v) {
     for (int u = 0; u < g.w(); ++u) {
       const int p = v * g.w() + u;
       if (!g.valid(p)) continue;
@@ -142,6 +143,7 @@ std::vector<char> concave_pixels(const ImageGrid& g, const std::vector<Eigen::Ve
         }
       }
     }
+  });
   return concave;
 }
 
@@ -371,12 +373,11 @@ void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const Selec
                     std::vector<int>& comp) {
   if (!support.found || params.plane_flat_sigmas <= 0) return;
   const float k = static_cast<float>(params.plane_flat_sigmas * params.sensor_noise_at_1m);
-#pragma omp parallel for schedule(static) num_threads(g.threads)
-  for (int p = 0; p < static_cast<int>(comp.size()); ++p) {
-    if (comp[p] < 0 || !g.valid(p)) continue;
+  detail::parallel_for(static_cast<int>(comp.size()), g.threads, [&](int p) {
+    if (comp[p] < 0 || !g.valid(p)) return;
     const float z = g.z(p);
     if (std::abs(support.plane.distance(g.frame.xyz[p])) <= k * z * z) comp[p] = kPlane;
-  }
+  });
 }
 
 }  // namespace
@@ -461,21 +462,23 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   }
   std::vector<char> keep(found.size(), 0);
   // Each candidate is described by one iteration (boxes are the costly part): any thread.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-  for (int c = 0; c <= count; ++c) {
-    const int i = slot[c];
-    if (i < 0) continue;
-    Candidate& cand = found[i];
-    const bool plane = c == count;
-    if (!plane && static_cast<int>(cand.points.size()) < params.min_candidate_points) continue;
-    keep[i] = 1;
-    cand.label = point_labels[cand.points[0]];
-    cand.box = oriented_box(frame, cand.points);
-    cand.centroid = Eigen::Vector3d::Zero();
-    for (int p : cand.points) cand.centroid += frame.xyz[p].cast<double>();
-    cand.centroid /= static_cast<double>(cand.points.size());
-    cand.background = plane || is_background(frame, cand, params);
-  }
+  detail::parallel_for(
+      count + 1, nthreads,
+      [&](int c) {
+        const int i = slot[c];
+        if (i < 0) return;
+        Candidate& cand = found[i];
+        const bool plane = c == count;
+        if (!plane && static_cast<int>(cand.points.size()) < params.min_candidate_points) return;
+        keep[i] = 1;
+        cand.label = point_labels[cand.points[0]];
+        cand.box = oriented_box(frame, cand.points);
+        cand.centroid = Eigen::Vector3d::Zero();
+        for (int p : cand.points) cand.centroid += frame.xyz[p].cast<double>();
+        cand.centroid /= static_cast<double>(cand.points.size());
+        cand.background = plane || is_background(frame, cand, params);
+      },
+      1);
   for (std::size_t i = 0; i < found.size(); ++i) {
     if (!keep[i]) continue;
     Candidate& cand = found[i];

@@ -15,7 +15,7 @@
 #include <stdexcept>
 
 #include "image_io.hpp"
-#include "util/run_beside.hpp"
+#include "util/parallel_for.hpp"
 
 namespace proxseg {
 namespace {
@@ -349,24 +349,30 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result,
                                   const OutputSet& outputs) {
   // The picture (three quarters of the work: building and compressing it) is made beside the
-  // rest; then every file is written at once, so that a failure never leaves a partial set.
+  // rest, on a thread that ends with it (parallel_for: no OpenMP team left spin-waiting until the
+  // process exits); then every file is written at once, so that a failure never leaves a partial
+  // set.
   std::string png, pcd, label, instance;
   nlohmann::json report;
-  detail::run_beside(
-      params.threads != 1 && outputs.png,
-      [&] {
-        if (outputs.png) png = label_image_png(frame, result.selection.instance);
-      },
-      [&] {
-        report = segmentation_report(frame, params, result);
-        if (outputs.pcd)
-          pcd = pcd_bytes(
-              frame, {{"label", result.point_labels}, {"instance", result.selection.instance}});
-        if (outputs.labels) {
-          label = label_png(frame, result.point_labels);
-          instance = label_png(frame, result.selection.instance);
-        }
-      });
+  auto picture = [&] {
+    if (outputs.png) png = label_image_png(frame, result.selection.instance);
+  };
+  auto rest = [&] {
+    report = segmentation_report(frame, params, result);
+    if (outputs.pcd)
+      pcd = pcd_bytes(frame,
+                      {{"label", result.point_labels}, {"instance", result.selection.instance}});
+    if (outputs.labels) {
+      label = label_png(frame, result.point_labels);
+      instance = label_png(frame, result.selection.instance);
+    }
+  };
+  if (params.threads != 1 && outputs.png) {
+    detail::parallel_for(2, 2, [&](int i) { i == 0 ? picture() : rest(); });
+  } else {
+    picture();
+    rest();
+  }
   std::vector<std::pair<std::string, std::string>> files;
   if (outputs.labels) {
     files.emplace_back(prefix + ".label.png", std::move(label));
