@@ -7,10 +7,11 @@
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
-#                   generated clutter set (60 scenes in $(BUILD)/clutter, made when missing)
+#                   generated clutter, piles and occlusion sets ($(BUILD)/seg-dev, made when
+#                   missing)
 #   make bench-ablation  what each segmentation stage buys: seg_cv with each stage off
-#                   (bench/seg_ablation.json) on mOSD learn and the generated clutter, piles and
-#                   occlusion sets ($(BUILD)/seg-dev, made when missing), cross-validated folds
+#                   (bench/seg_ablation.json) on mOSD learn and the same generated sets,
+#                   cross-validated folds
 #   make bench-mem  only the memory benchmark: peak RSS per frame, 64-view recognition, batch growth
 #   make bench-rec  only the recognition benchmark: the paper's Tables 2-3 and ROC, with the
 #                   Open3D (RANSAC, FGR), PCL and OpenCV PPF peers
@@ -34,7 +35,7 @@ DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
 
 all: build
 
@@ -91,24 +92,29 @@ deps-bench:
 
 bench: bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch
 
-bench-seg: deps-bench configure
+# The generated development scenes of the segmentation: clutter (60), piles and occlusion (30
+# each), seeds from 1 (docs/clutter.md); made once.
+SEGDEV = $(BUILD)/seg-dev
+seg-dev: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli
+	@mkdir -p $(SEGDEV)
+	@for k in clutter:60 piles:30 occlusion:30; do kind=$${k%:*} n=$${k#*:}; \
+	  [ -f $(SEGDEV)/$$kind-0$$n.pcd ] || $(BUILD)/proxseg synth --clutter --kind $$kind \
+	    --count $$n --models $(DATA)/lmo/models -o $(SEGDEV) > /dev/null; done
+
+bench-seg: deps-bench configure seg-dev
 	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
 	@mkdir -p $(BUILD)/bench-out
-	@if [ "$$(find $(BUILD)/clutter -maxdepth 1 -name '*.pcd' 2>/dev/null | wc -l)" -lt 60 ]; then \
-	  $(BUILD)/proxseg synth --clutter --count 60 -o $(BUILD)/clutter; fi
-	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --clutter $(BUILD)/clutter \
+	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --clutter $(SEGDEV) \
+	  --methods "proxseg paper,proxseg default,PCL LCCP,PCL plane + Euclidean" \
 	  --out $(BUILD)/bench-out/segmentation.md --csv $(BUILD)/bench-out/segmentation.csv
 	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
 	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
 
 # Peak RSS of one frame and of a 64-view recognition; RSS over a 100-frame batch (no growth).
-SEGDEV = $(BUILD)/seg-dev
-bench-ablation: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target seg_cv proxseg_cli
-	@mkdir -p $(SEGDEV) $(BUILD)/bench-out
-	@for k in clutter:60 piles:30 occlusion:30; do kind=$${k%:*} n=$${k#*:}; \
-	  [ -f $(SEGDEV)/$$kind-0$$n.pcd ] || $(BUILD)/proxseg synth --clutter --kind $$kind \
-	    --count $$n --models $(DATA)/lmo/models -o $(SEGDEV) > /dev/null; done
+bench-ablation: configure seg-dev
+	@cmake --build $(BUILD) -j $(JOBS) --target seg_cv
+	@mkdir -p $(BUILD)/bench-out
 	@$(BUILD)/bench/seg_cv --data $(DATA)/mosd/learn --clutter $(SEGDEV) --threads 2 \
 	  --grid bench/seg_ablation.json --out $(BUILD)/bench-out/ablation.md \
 	  --title "Segmentation: what each stage buys (each off in turn, cross-validated)"
