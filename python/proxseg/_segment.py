@@ -52,13 +52,15 @@ class Candidate:
 class SegmentResult:
     """What :func:`segment` returns.
 
-    labels: segmentation label per point (uint32; 0 = invalid, 1..k), the frame's shape:
-        (H, W) when organized, else (N,).
-    labels_kmeans: the same before the MRF.
+    labels: segmentation label per point (uint32; 0 = invalid or none), the frame's shape:
+        (H, W) when organized, else (N,). The paper's k-means + MRF labels 1..k when they were
+        computed (``report["paper_labels"]``: the paper preset, unorganized clouds,
+        ``paper_labels=True``); otherwise the image-grid surfaces the selection started from.
+    labels_kmeans: the same before the MRF (equal to ``labels`` for surfaces).
     instances: instance per point (uint32; 0 = none, else a Candidate.id), the frame's shape.
     candidates: the candidate objects (background planes excluded), in id order.
     background: the background instances.
-    k: number of segmentation labels.
+    k: number of the paper's segmentation labels (0 when they were not computed).
     times_ms: wall time of each stage and "total", milliseconds.
     params: the parameters used (SegmentParams).
     report: the CLI's JSON report as a dict (``proxseg segment --json``): input, parameters,
