@@ -4,6 +4,7 @@
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/selection.hpp>
 
+#include "container_pieces.hpp"
 #include "image_grid.hpp"
 #include "occluded_pieces.hpp"
 #include "selection_detail.hpp"
@@ -446,6 +447,8 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   if (params.join_occluded)
     detail::join_occluded_pieces(grid, surfaces.normals, params, count, comp);
   trim_flat_base(grid, support, params, comp);
+  if (params.join_containers && support.found)
+    detail::join_container_pieces(grid, support.plane, params, count, comp);
 
   // Instances in the order of their first pixel; the plane is one background instance.
   auto slot_of = [count](int c) { return c == kPlane ? count : c; };  // surfaces, then the plane

@@ -29,6 +29,7 @@ SegmentParams preset(const std::string& name) {
     p.selection.absorb_small = false;
     p.selection.geometry = SelectionParams::Geometry::kVoxels;
     p.selection.join_occluded = false;
+    p.selection.join_containers = false;
     p.selection.min_candidate_points = 500;  // the threshold this preset has always used
     p.paper_labels = true;
     return p;
@@ -135,6 +136,16 @@ void validate(const SegmentParams& p) {
   require(sp.occlusion_min_face_rays >= 1, "selection.occlusion_min_face_rays", ">= 1");
   require(sp.occlusion_min_face_colour >= 0 && sp.occlusion_min_face_colour <= 1,
           "selection.occlusion_min_face_colour", "in [0, 1]");
+  require(finite(sp.container_min_radius) && sp.container_min_radius >= 0,
+          "selection.container_min_radius", ">= 0 metres");
+  require(finite(sp.container_max_radius) && sp.container_max_radius >= sp.container_min_radius,
+          "selection.container_max_radius", ">= selection.container_min_radius");
+  require(finite(sp.container_circle_rms) && sp.container_circle_rms >= 0,
+          "selection.container_circle_rms", ">= 0");
+  require(finite(sp.container_rim_tolerance) && sp.container_rim_tolerance >= 0,
+          "selection.container_rim_tolerance", ">= 0 metres");
+  require(finite(sp.container_min_depth) && sp.container_min_depth >= 0,
+          "selection.container_min_depth", ">= 0 metres");
   require(sp.island_missing_share >= 0 && sp.island_missing_share <= 1,
           "selection.island_missing_share", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");

@@ -102,6 +102,12 @@ void fields(P& p, F&& f) {
   f("selection", "occlusion_min_colour", p.selection.occlusion_min_colour);
   f("selection", "occlusion_min_face_rays", p.selection.occlusion_min_face_rays);
   f("selection", "occlusion_min_face_colour", p.selection.occlusion_min_face_colour);
+  f("selection", "join_containers", p.selection.join_containers);
+  f("selection", "container_min_radius", p.selection.container_min_radius);
+  f("selection", "container_max_radius", p.selection.container_max_radius);
+  f("selection", "container_circle_rms", p.selection.container_circle_rms);
+  f("selection", "container_rim_tolerance", p.selection.container_rim_tolerance);
+  f("selection", "container_min_depth", p.selection.container_min_depth);
   f("", "paper_labels", p.paper_labels);
   f("", "threads", p.threads);
 }

@@ -101,6 +101,20 @@ struct SelectionParams {
   // geometric evidence) and the histograms intersect by at least occlusion_min_face_colour.
   int occlusion_min_face_rays = 3;
   double occlusion_min_face_colour = 0.2;
+  // kImage: the inside and the outside of one container (a mug, bowl or pot seen from above,
+  // which its rim cuts in two) join (join_containers). A component is round when the circle
+  // fitted to its footprint on the support plane has a radius in
+  // [container_min_radius, container_max_radius] and the footprint lies on it within
+  // container_circle_rms of the radius (RMS). Another component is its inside when 90 % of its
+  // footprint lies within that circle (+ container_rim_tolerance), its top no higher than the
+  // round one's rim (+ container_rim_tolerance) and its bottom at least container_min_depth below
+  // the rim. Needs the support plane.
+  bool join_containers = true;
+  double container_min_radius = 0.02;     // metres
+  double container_max_radius = 0.2;      // metres
+  double container_circle_rms = 0.1;      // share of the radius
+  double container_rim_tolerance = 0.01;  // metres
+  double container_min_depth = 0.02;      // metres
 };
 
 // An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
