@@ -109,6 +109,30 @@ TEST(PointNormals, OrganizedPlaneNormalsFaceTheSensor) {
   EXPECT_GT(checked, 3000);
 }
 
+// A slanted board 8 cm in front of a wall, its edge a silhouette: with the smoothing kept to each
+// pixel's surface (normal_edge_ratio) the board's normals up to its edge are the board's; the
+// plain box filter mixes the wall into the last pixels and bends them by tens of degrees.
+TEST(PointNormals, EdgeAwareSmoothingKeepsASilhouettesNormals) {
+  const int w = 80, h = 60;
+  Frame f = plane_frame(w, h, 1.0f, 0.5f);
+  for (int v = 0; v < h; ++v)
+    for (int u = w / 2; u < w; ++u) f.xyz[v * w + u] *= 1.08f / f.xyz[v * w + u].z();  // wall
+  const Eigen::Vector3f board = Eigen::Vector3f(0.5f, 0.f, -1.f).normalized();
+  FeatureParams plain, aware;
+  plain.normal_step = aware.normal_step = 5;
+  aware.normal_edge_ratio = 0.01;
+  const auto a = point_normals(f, aware), b = point_normals(f, plain);
+  double worst_aware = 1, worst_plain = 1;
+  for (int v = 10; v < h - 10; ++v)
+    for (int u = w / 2 - 3; u < w / 2; ++u) {  // the board's last three columns
+      const int i = v * w + u;
+      if (a[i].allFinite()) worst_aware = std::min<double>(worst_aware, a[i].dot(board));
+      if (b[i].allFinite()) worst_plain = std::min<double>(worst_plain, b[i].dot(board));
+    }
+  EXPECT_GT(worst_aware, std::cos(2 * kPi / 180));
+  EXPECT_LT(worst_plain, std::cos(20 * kPi / 180));
+}
+
 TEST(PointNormals, UnorganizedPlane) {
   Frame f = plane_frame(40, 30, 1.0f, 0.0f);
   f.width = 1200;

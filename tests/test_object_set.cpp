@@ -242,7 +242,11 @@ TEST(ObjectSet, LoneMatchNamesTheBananaOfTheFirstScene) {
 // yellow bowl seen from above shows its white inside, which the green bowl shares, and the green
 // bowl's view scores a little higher (0.86 against 0.84: without the vote it would be named, as
 // that is over the confident score). On the sliver of outer wall that shows, where the two
-// models' colours differ, the candidate's points vote for the yellow bowl.
+// models' colours differ, the candidate's points vote for the yellow bowl. The candidate is the
+// one the selection cut before the edge-aware normals (5 px normals and creases, plain box
+// filter): with today's default the bowl's candidate has 50 more points of its surroundings, the
+// yellow bowl's view is not shortlisted and the green one is named without a vote (noted in
+// docs/method.md, "Steps after the edge-aware smoothing"); this test is about the vote.
 TEST(ObjectSet, LookalikeVoteTellsTheYellowBowlFromTheGreen) {
   const std::vector<PoolObject>& objects = pool();
   const std::vector<ObjectFold> folds = object_folds(objects, ObjectFoldParams{});
@@ -257,7 +261,10 @@ TEST(ObjectSet, LookalikeVoteTellsTheYellowBowlFromTheGreen) {
   for (const auto& t : scene.objects)
     if (t.name == "bowl-yellow") yellow = t.label;
   ASSERT_NE(yellow, 0u);
-  const SegmentResult s = segment(scene.frame, SegmentParams{});
+  SegmentParams before;
+  before.selection.image_normal_step = before.selection.concavity_step = 5;
+  before.selection.edge_aware_normals = false;
+  const SegmentResult s = segment(scene.frame, before);
   const RecognitionParams p;
   int voted = 0;
   for (const SceneObject& o : recognize_scene(scene.frame, s.selection, db, p)) {

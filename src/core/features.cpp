@@ -501,6 +501,61 @@ namespace {
 
 // Normals of row v of an organized w x h frame from the smoothed points (valid where mask > 0):
 // central differences s pixels apart, skipping neighbours across a depth step.
+// The box filter of point_normals restricted to each pixel's own surface: where the s x s window
+// holds a depth step between neighbouring pixels (more than ratio x the depth) or a missing
+// pixel, the mean of the valid pixels whose depth lies within ratio x (pixels apart) x the
+// centre's depth of it (the image grid's depth-step test); elsewhere (most pixels) the plain
+// box filter's mean. A plain box filter mixes an object's silhouette with the table a few
+// centimetres behind it, and the bent normals read as a concave crease.
+void edge_aware_smooth(const cv::Mat& xyz, const cv::Mat& mask, int s, float ratio, int threads,
+                       cv::Mat& out) {
+  const int w = xyz.cols, h = xyz.rows, lo = -(s / 2), hi = (s - 1) / 2;  // boxFilter's anchor
+  cv::Mat sm, step(h, w, CV_8U), near_step;
+  cv::boxFilter(xyz, out, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  const auto* p = xyz.ptr<cv::Vec3f>(0);  // continuous: made whole by point_normals
+  const float* m = mask.ptr<float>(0);
+  auto z = [&](int i) { return std::abs(p[i][2]); };
+  // A pixel that is missing or steps to its right or lower neighbour.
+  auto steps = [&](int i, int j) { return std::abs(z(i) - z(j)) > ratio * std::min(z(i), z(j)); };
+  detail::parallel_for(h, threads, [&](int v) {
+    auto* row = step.ptr<std::uint8_t>(v);
+    for (int u = 0; u < w; ++u) {
+      const int i = v * w + u;
+      row[u] = !(m[i] > 0) || (u + 1 < w && steps(i, i + 1)) || (v + 1 < h && steps(i, i + w));
+    }
+  });
+  cv::dilate(step, near_step, cv::Mat::ones(s, s, CV_8U));
+  auto* o = out.ptr<cv::Vec3f>(0);
+  const float* count = sm.ptr<float>(0);
+  detail::parallel_for(h, threads, [&](int v) {
+    const auto* near = near_step.ptr<std::uint8_t>(v);
+    for (int u = 0; u < w; ++u) {
+      const int i = v * w + u;
+      if (!(m[i] > 0)) continue;
+      if (!near[u]) {
+        o[i] /= count[i];
+        continue;
+      }
+      const float zc = z(i);
+      cv::Vec3f sum(0, 0, 0);
+      int n = 0;
+      for (int dv = lo; dv <= hi; ++dv) {
+        const int vv = v + dv;
+        if (vv < 0 || vv >= h) continue;
+        for (int du = lo; du <= hi; ++du) {
+          const int uu = u + du, j = vv * w + uu;
+          if (uu < 0 || uu >= w || !(m[j] > 0)) continue;
+          if (std::abs(z(j) - zc) > ratio * std::max(std::abs(du), std::abs(dv)) * zc) continue;
+          sum += p[j];
+          ++n;
+        }
+      }
+      o[i] = sum / static_cast<float>(n);
+    }
+  });
+}
+
 void normals_row(const Eigen::Vector3f* xyz, const float* mask, const Eigen::Vector3f* smooth,
                  int w, int h, int s, int v, Eigen::Vector3f* normals) {
   const bool up = v - s >= 0, down = v + s < h;
@@ -568,15 +623,19 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
     }
   });
   cv::Mat sx, sm;
-  cv::boxFilter(xyz, sx, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below), in
-  // place: a fresh buffer would cost more in page faults than the divisions it saves.
-  detail::parallel_for(h, nthreads, [&](int v) {
-    for (int u = 0; u < w; ++u)
-      if (mask.at<float>(v, u) > 0)
-        sx.at<cv::Vec3f>(v, u) = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
-  });
+  if (params.normal_edge_ratio > 0) {
+    edge_aware_smooth(xyz, mask, s, static_cast<float>(params.normal_edge_ratio), nthreads, sx);
+  } else {
+    cv::boxFilter(xyz, sx, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+    cv::boxFilter(mask, sm, -1, cv::Size(s, s), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+    // The smoothed point of every valid pixel, once (each is read by up to 5 pixels below), in
+    // place: a fresh buffer would cost more in page faults than the divisions it saves.
+    detail::parallel_for(h, nthreads, [&](int v) {
+      for (int u = 0; u < w; ++u)
+        if (mask.at<float>(v, u) > 0)
+          sx.at<cv::Vec3f>(v, u) = sx.at<cv::Vec3f>(v, u) / sm.at<float>(v, u);
+    });
+  }
   static_assert(sizeof(cv::Vec3f) == sizeof(Eigen::Vector3f), "same layout");
   CV_Assert(sx.isContinuous() && mask.isContinuous());
   const auto* smooth = reinterpret_cast<const Eigen::Vector3f*>(sx.ptr<cv::Vec3f>(0));

@@ -391,6 +391,7 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
   GridSurfaces out;
   FeatureParams normal_params;
   normal_params.normal_step = params.image_normal_step;
+  if (params.edge_aware_normals) normal_params.normal_edge_ratio = params.depth_step_ratio;
   out.normals = point_normals(frame, normal_params, nthreads);
 
   // The support plane first: what lies in it within the sensor's noise is background.

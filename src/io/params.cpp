@@ -102,6 +102,7 @@ void fields(P& p, F&& f) {
   f("selection", "occlusion_min_colour", p.selection.occlusion_min_colour);
   f("selection", "occlusion_min_face_rays", p.selection.occlusion_min_face_rays);
   f("selection", "occlusion_min_face_colour", p.selection.occlusion_min_face_colour);
+  f("selection", "edge_aware_normals", p.selection.edge_aware_normals);
   f("selection", "join_containers", p.selection.join_containers);
   f("selection", "container_min_radius", p.selection.container_min_radius);
   f("selection", "container_max_radius", p.selection.container_max_radius);

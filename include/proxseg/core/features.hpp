@@ -29,6 +29,10 @@ struct FeatureParams {
   int gabor_stride = 2;
   int normal_step = 3;  // organized clouds: pixel offset of the central differences
   int normal_knn = 20;  // unorganized clouds: neighbours for PCA normals
+  // Organized clouds: > 0 smooths each pixel only over the neighbours on its own surface (depth
+  // within this share of its depth per pixel of offset), so that a silhouette's normals are not
+  // bent towards the surface behind it; 0 = a plain box filter (the shape feature's, paper).
+  double normal_edge_ratio = 0;
 };
 
 // Colour block of one voxel from its points' colours.

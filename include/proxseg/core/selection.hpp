@@ -46,7 +46,11 @@ struct SelectionParams {
   enum class Geometry { kVoxels, kImage };
   Geometry geometry = Geometry::kImage;
   // kImage: pixel offset of the central differences (and box-filter size) of the normals.
-  int image_normal_step = 5;
+  int image_normal_step = 4;
+  // kImage: the normals' smoothing keeps to each pixel's own surface (no depth step, by
+  // depth_step_ratio), so that a silhouette's normals are not bent towards the surface behind it
+  // (FeatureParams::normal_edge_ratio); false = the shape feature's plain box filter.
+  bool edge_aware_normals = true;
   // kImage: neighbouring pixels whose depths differ by more than this share of the depth lie on
   // different surfaces (a depth-discontinuity edge).
   double depth_step_ratio = 0.01;
@@ -54,7 +58,7 @@ struct SelectionParams {
   // either side of a pixel (along rows, columns and both diagonals); a crease turns them by more
   // than crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside
   // of a mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
-  int concavity_step = 5;
+  int concavity_step = 4;
   double crease_tolerance_deg = 35.0;
   // kImage: the support plane takes a pixel within plane_band_sigmas standard deviations of the
   // sensor's depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and
