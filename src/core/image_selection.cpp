@@ -330,22 +330,26 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
 void absorb_small(const ImageGrid& g, const SupportPlane& support, const SelectionParams& params,
                   int count, bool drop, std::vector<int>& comp) {
   const int min_points = params.min_candidate_points;
+  auto small = [&](int size) { return size > 0 && size < min_points; };
   for (int round = 0; round < 2; ++round) {
+    std::vector<int> size(count, 0);
+    for (int c : comp)
+      if (c >= 0) ++size[c];
+    if (std::none_of(size.begin(), size.end(), small)) break;
+    // Only the small components' pixels are needed (their border, their fit to the plane).
     std::vector<std::vector<int>> points(count);
-    for (int p = 0; p < static_cast<int>(comp.size()); ++p)
-      if (comp[p] >= 0) points[comp[p]].push_back(p);
     std::vector<std::map<int, int>> contact(count);  // small -> neighbour -> border length
     for (int p = 0; p < static_cast<int>(comp.size()); ++p) {
       const int a = comp[p];
-      if (a < 0 || static_cast<int>(points[a].size()) >= min_points) continue;
+      if (a < 0 || !small(size[a])) continue;
+      points[a].push_back(p);
       for (int q : g.neighbours(p))
         if (q >= 0 && comp[q] != kNone && comp[q] != a && g.continuous(p, q)) ++contact[a][comp[q]];
     }
     std::vector<int> target(count, kNone);
     bool changed = false;
     for (int c = 0; c < count; ++c) {
-      const int size = static_cast<int>(points[c].size());
-      if (size == 0 || size >= min_points) continue;
+      if (!small(size[c])) continue;
       const bool plane_ok = on_plane(g.frame, support, points[c], params);
       int best = kNone, longest = 0;
       for (const auto& [n, length] : contact[c])
