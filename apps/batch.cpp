@@ -7,10 +7,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
+#include <exception>
 #include <filesystem>
 #include <iostream>
+#include <mutex>
 #include <regex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "cli.hpp"
 
@@ -90,7 +95,7 @@ void check_batch_options(const SegmentOptions& o) {
 }
 
 int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
-              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job) {
+              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job, int workers) {
   const auto [shard, shards] = parse_shard(o.shard);
   proxseg::RgbdNaming naming = o.naming;
   naming.intrinsics = o.intrinsics;
@@ -125,20 +130,43 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   Progress progress(todo.size());
   const auto start = std::chrono::steady_clock::now();
   std::size_t failed = 0, done = 0;
-  for (const auto& f : todo) {
-    if (interrupted()) break;
-    const nlohmann::json row = job(f);
-    log.append(row);
-    ++done;
-    if (row.contains("error")) {
-      ++failed;
-      std::cerr << "proxseg: error: " << row["error"].get<std::string>() << "\n";
+  // Workers take the next frame until none is left; a row is logged as its frame finishes.
+  std::atomic<std::size_t> next{0};
+  std::mutex logging;
+  std::exception_ptr error;
+  auto work = [&] {
+    try {
+      for (std::size_t i; !interrupted() && (i = next++) < todo.size();) {
+        const proxseg::FrameSource& f = todo[i];
+        const nlohmann::json row = job(f);
+        const std::lock_guard<std::mutex> lock(logging);
+        if (error) return;
+        log.append(row);
+        ++done;
+        if (row.contains("error")) {
+          ++failed;
+          std::cerr << "proxseg: error: " << row["error"].get<std::string>() << "\n";
+        }
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        progress.step(f.id + (row.contains("error") ? " (failed)" : "") + "  " +
+                      rate_and_eta(done, todo.size(), s));
+      }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(logging);
+      if (!error) error = std::current_exception();
+      next = todo.size();  // the others stop after their frame
     }
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    progress.step(f.id + (row.contains("error") ? " (failed)" : "") + "  " +
-                  rate_and_eta(done, todo.size(), s));
+  };
+  const int n = std::max(1, std::min<int>(workers, static_cast<int>(todo.size())));
+  if (n == 1) {
+    work();
+  } else {
+    std::vector<std::thread> threads;
+    for (int k = 0; k < n; ++k) threads.emplace_back(work);
+    for (auto& t : threads) t.join();
   }
+  if (error) std::rethrow_exception(error);
   log.close(interrupted(), proxseg::peak_resident_mib());
 
   const nlohmann::json summary = proxseg::summarize({log.path()}, shards == 1);

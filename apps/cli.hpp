@@ -66,9 +66,11 @@ void check_batch_options(const SegmentOptions& o);
 // run's summary to OUT/<summary>.json (proxseg::summarize), also on stdout with --json. header
 // holds the command's "command", "parameters" (and "database"); the rest is added here. An
 // interrupt stops between frames. Returns the exit code: 0, 1 when a frame failed,
-// kInterruptedExit.
+// kInterruptedExit. workers > 1: that many frames at once (each job then runs on one thread),
+// their rows in the order they finish.
 int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
-              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job);
+              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job,
+              int workers = 1);
 
 // Interrupts (SIGINT, SIGTERM) during batch work: after catch_interrupts(), the first one only
 // sets interrupted(), so that the batch stops between items with whole output files and writes

@@ -14,6 +14,7 @@
 #include <iostream>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli.hpp"
@@ -54,12 +55,18 @@ int run_segment(const SegmentCommand& o) {
   if (!o.config.empty()) base = proxseg::read_params(o.config, base);
   const proxseg::SegmentParams params = segment_params(o, base);
   if (!o.batch.empty()) {
-    const proxseg::SegmentJob job{o.output, outputs, params};
-    return run_batch(o, o.output, o.json,
-                     {{"command", "segment"},
-                      {"outputs", proxseg::to_string(outputs)},
-                      {"parameters", proxseg::to_json(params)}},
-                     [&](const proxseg::FrameSource& f) { return proxseg::segment_frame(f, job); });
+    // Frames side by side, one thread each (as many as the threads asked for): a frame's stages
+    // do not keep two cores busy, reading and writing least of all. Results do not depend on it.
+    const int workers = params.threads > 0
+                            ? params.threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const proxseg::SegmentJob job{o.output, outputs, params, workers > 1 ? 1 : 0};
+    return run_batch(
+        o, o.output, o.json,
+        {{"command", "segment"},
+         {"outputs", proxseg::to_string(outputs)},
+         {"parameters", proxseg::to_json(params)}},
+        [&](const proxseg::FrameSource& f) { return proxseg::segment_frame(f, job); }, workers);
   }
   make_parent(o.output);  // before the work: an unwritable output fails at once
   const proxseg::Frame frame = read_input(o);

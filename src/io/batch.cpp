@@ -114,7 +114,9 @@ nlohmann::json segment_frame(const FrameSource& source, const SegmentJob& job) {
   return frame_row(source, [&](nlohmann::json& row) {
     const std::string prefix = output_prefix(job.out_dir, source.id);
     const Frame frame = read_frame(source);
-    const SegmentResult result = segment(frame, job.params);
+    SegmentParams params = job.params;
+    if (job.frame_threads > 0) params.threads = job.frame_threads;
+    const SegmentResult result = segment(frame, params);
     const nlohmann::json report =
         write_segmentation(prefix, frame, job.params, result, job.outputs);
     row["outputs"] = file_sizes(job.out_dir, output_files(prefix, job.outputs, false));

@@ -5,6 +5,7 @@
 //               from offset bytes back in the output (byte by byte: may overlap).
 #include "lzf.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -22,7 +23,8 @@ void lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char*
       const std::size_t run = ctrl + 1;
       if (run > in_size - ip) throw std::runtime_error("LZF literal run past the end of the input");
       if (run > out_size - op) throw std::runtime_error("LZF output longer than declared");
-      for (std::size_t k = 0; k < run; ++k) out[op++] = in[ip++];
+      std::memcpy(out + op, in + ip, run);
+      op += run, ip += run;
       continue;
     }
     std::size_t len = ctrl >> 5;
@@ -35,7 +37,15 @@ void lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char*
     len += 2;
     if (offset > op) throw std::runtime_error("LZF back-reference before the start of the output");
     if (len > out_size - op) throw std::runtime_error("LZF output longer than declared");
-    for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - offset];
+    // The copy repeats the last `offset` bytes: copied in chunks whose source ends where they
+    // start (no overlap), each a whole number of periods and twice the last (long runs of one
+    // repeated value, the NaNs of missing pixels, take a few copies instead of a byte each).
+    const std::size_t from = op - offset, end = op + len;
+    while (op < end) {
+      const std::size_t chunk = std::min(end - op, op - from);
+      std::memcpy(out + op, out + from, chunk);
+      op += chunk;
+    }
   }
   if (op != out_size)
     throw std::runtime_error("LZF data ends after " + std::to_string(op) + " of " +

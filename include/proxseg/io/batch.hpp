@@ -20,7 +20,9 @@ namespace proxseg {
 struct SegmentJob {
   std::string out_dir;   // outputs go to OUT_DIR/<frame id>.* (folders made as needed)
   OutputSet outputs;     // which files (write_segmentation)
-  SegmentParams params;  // the segmentation's parameters
+  SegmentParams params;  // the segmentation's parameters (echoed in every report)
+  // Threads for each frame's segmentation, when frames run side by side; 0 = params.threads.
+  int frame_threads = 0;
 };
 
 // What a recognition batch does with each frame: segment it, recognise its candidates against
