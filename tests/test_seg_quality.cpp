@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <initializer_list>
 #include <iterator>
 
 using namespace proxseg;
@@ -68,12 +69,16 @@ Quality score(const std::vector<Frame>& frames, const SegmentParams& params) {
   return q;
 }
 
-std::vector<Frame> learn_scenes() {
+std::vector<Frame> learn_frames(std::initializer_list<int> numbers) {
   std::vector<Frame> out;
-  // Two of each mOSD learn category: boxes, stacked, occluded, cylindric.
-  for (int k : {3, 12, 19, 23, 27, 31, 36, 41})
+  for (int k : numbers)
     out.push_back(read_pcd(kData + "/mosd/learn/learn" + std::to_string(k) + ".pcd"));
   return out;
+}
+
+// Two of each mOSD learn category: boxes, stacked, occluded, cylindric.
+std::vector<Frame> learn_scenes() {
+  return learn_frames({3, 12, 19, 23, 27, 31, 36, 41});
 }
 
 std::vector<Frame> clutter_scenes(const std::string& kind = "clutter") {
@@ -135,9 +140,7 @@ TEST(SegQuality, PilesAndOcclusionScenesFloor) {
 // behind a standing box; in learn28 one side is in shadow), learn30 (a lying can behind a box),
 // learn31 (a box behind a can). Without the occlusion join each is two.
 TEST(SegQuality, AnObjectSeenOnBothSidesOfAnotherIsOne) {
-  std::vector<Frame> frames;
-  for (int k : {28, 29, 30, 31})
-    frames.push_back(read_pcd(kData + "/mosd/learn/learn" + std::to_string(k) + ".pcd"));
+  const std::vector<Frame> frames = learn_frames({28, 29, 30, 31});
   SegmentParams off = preset("default");
   off.selection.join_occluded = false;
   const Quality with = score(frames, preset("default")), without = score(frames, off);
@@ -151,9 +154,7 @@ TEST(SegQuality, AnObjectSeenOnBothSidesOfAnotherIsOne) {
 // sides; the pot's floor lies in the table's noise band). Without the container join each is
 // two or three.
 TEST(SegQuality, TheInsideAndOutsideOfAContainerAreOne) {
-  std::vector<Frame> frames;
-  for (int k : {36, 37, 38})
-    frames.push_back(read_pcd(kData + "/mosd/learn/learn" + std::to_string(k) + ".pcd"));
+  const std::vector<Frame> frames = learn_frames({36, 37, 38});
   SegmentParams off = preset("default");
   off.selection.join_containers = false;
   const Quality with = score(frames, preset("default")), without = score(frames, off);
