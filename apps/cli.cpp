@@ -56,7 +56,8 @@ void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--min-candidate-points", o.min_candidate_points,
                   "Smaller components are not candidates");
   cmd->add_option("--threads", o.threads,
-                  "Worker threads (0 = all cores); results do not depend on it");
+                  "Worker threads (0 = all cores; segment --batch: that many frames at once, one "
+                  "thread each); results do not depend on it");
 }
 
 // Preset < --config < individual flags.
