@@ -499,8 +499,6 @@ Eigen::VectorXf texture_feature(const GaborBank& bank, const std::vector<int>& p
 
 namespace {
 
-// Normals of row v of an organized w x h frame from the smoothed points (valid where mask > 0):
-// central differences s pixels apart, skipping neighbours across a depth step.
 // The box filter of point_normals restricted to each pixel's own surface: where the s x s window
 // holds a depth step between neighbouring pixels (more than ratio x the depth) or a missing
 // pixel, the mean of the valid pixels whose depth lies within ratio x (pixels apart) x the
@@ -556,6 +554,8 @@ void edge_aware_smooth(const cv::Mat& xyz, const cv::Mat& mask, int s, float rat
   });
 }
 
+// Normals of row v of an organized w x h frame from the smoothed points (valid where mask > 0):
+// central differences s pixels apart, skipping neighbours across a depth step.
 void normals_row(const Eigen::Vector3f* xyz, const float* mask, const Eigen::Vector3f* smooth,
                  int w, int h, int s, int v, Eigen::Vector3f* normals) {
   const bool up = v - s >= 0, down = v + s < h;

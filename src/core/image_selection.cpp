@@ -9,6 +9,7 @@
 #include "occluded_pieces.hpp"
 #include "selection_detail.hpp"
 #include "util/moments.hpp"
+#include "util/stopwatch.hpp"
 #include "util/union_find.hpp"
 
 #include <omp.h>
@@ -18,6 +19,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <stdexcept>
 
 namespace proxseg {
@@ -73,20 +75,54 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
   out.in_plane.assign(f.size(), 0);
   if (samples.size() < 3) return out;
   const int hypotheses = std::min<int>(256, static_cast<int>(samples.size()));
-  std::vector<double> support(hypotheses, 0);
+  // The samples packed side by side (each hypothesis reads them all), with the inlier test's
+  // band and the footprint weight precomputed: the same arithmetic as inlier(), without the
+  // scattered reads.
+  const std::size_t n = samples.size();
+  std::vector<float> x(n), y(n), z(n), nx(n), ny(n), nz(n), band(n), weight(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const int p = samples[j];
+    x[j] = f.xyz[p].x(), y[j] = f.xyz[p].y(), z[j] = f.xyz[p].z();
+    nx[j] = normals[p].x(), ny[j] = normals[p].y(), nz[j] = normals[p].z();
+    band[j] = std::max(band_min, k * g.z(p) * g.z(p));
+    weight[j] = g.z(p) * g.z(p);
+  }
+  // Support of hypothesis i over every stride-th sample: four running sums in a fixed order (no
+  // chain of dependent additions; the same value whatever the threads), without branches.
+  auto support_of = [&](int i, std::size_t stride) {
+    const int h = samples[static_cast<std::size_t>(i) * n / hypotheses];
+    const Eigen::Vector3f& m = normals[h];
+    const float offset = -m.dot(f.xyz[h]);
+    auto term = [&](std::size_t j) {
+      const float d = m.x() * x[j] + m.y() * y[j] + m.z() * z[j] + offset;
+      const float c = m.x() * nx[j] + m.y() * ny[j] + m.z() * nz[j];
+      return (std::abs(d) <= band[j]) & (std::abs(c) >= cos_tol) ? weight[j] : 0.f;
+    };
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    std::size_t j = 0;
+    for (; j + 4 * stride <= n; j += 4 * stride)
+      s0 += term(j), s1 += term(j + stride), s2 += term(j + 2 * stride), s3 += term(j + 3 * stride);
+    for (; j < n; j += stride) s0 += term(j);
+    return (s0 + s1) + (s2 + s3);
+  };
+  // Every hypothesis on a quarter of the samples; the best of them on all (the one with the most
+  // support wins, ties to the first).
+  constexpr std::size_t kPreviewStride = 4;
+  constexpr int kFinalists = 16;
+  std::vector<double> preview(hypotheses);
   detail::parallel_for(
-      hypotheses, g.threads,
-      [&](int i) {
-        const int h = samples[static_cast<std::size_t>(i) * samples.size() / hypotheses];
-        const Plane pl{normals[h], -normals[h].dot(f.xyz[h])};
-        double s = 0;
-        for (int p : samples)
-          if (inlier(pl, p)) s += g.z(p) * g.z(p);
-        support[i] = s;
-      },
-      8);
-  const int best =
-      static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
+      hypotheses, g.threads, [&](int i) { preview[i] = support_of(i, kPreviewStride); }, 8);
+  std::vector<int> finalists(hypotheses);
+  std::iota(finalists.begin(), finalists.end(), 0);
+  const int kept = std::min(kFinalists, hypotheses);
+  std::partial_sort(
+      finalists.begin(), finalists.begin() + kept, finalists.end(),
+      [&](int a, int b) { return preview[a] > preview[b] || (preview[a] == preview[b] && a < b); });
+  finalists.resize(kept);
+  std::sort(finalists.begin(), finalists.end());
+  std::vector<double> support(kept);
+  detail::parallel_for(kept, g.threads, [&](int i) { support[i] = support_of(finalists[i], 1); });
+  const int best = finalists[std::max_element(support.begin(), support.end()) - support.begin()];
   const int h = samples[static_cast<std::size_t>(best) * samples.size() / hypotheses];
   Plane plane{normals[h], -normals[h].dot(f.xyz[h])};
   std::vector<int> inliers;
@@ -331,10 +367,10 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
                   int count, bool drop, std::vector<int>& comp) {
   const int min_points = params.min_candidate_points;
   auto small = [&](int size) { return size > 0 && size < min_points; };
+  std::vector<int> size(count, 0);  // kept up to date as pieces move
+  for (int c : comp)
+    if (c >= 0) ++size[c];
   for (int round = 0; round < 2; ++round) {
-    std::vector<int> size(count, 0);
-    for (int c : comp)
-      if (c >= 0) ++size[c];
     if (std::none_of(size.begin(), size.end(), small)) break;
     // Only the small components' pixels are needed (their border, their fit to the plane).
     std::vector<std::vector<int>> points(count);
@@ -346,7 +382,8 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
       for (int q : g.neighbours(p))
         if (q >= 0 && comp[q] != kNone && comp[q] != a && g.continuous(p, q)) ++contact[a][comp[q]];
     }
-    std::vector<int> target(count, kNone);
+    // Every small piece moves at once, to where its neighbour was before this round.
+    std::vector<int> arriving(count, 0);
     bool changed = false;
     for (int c = 0; c < count; ++c) {
       if (!small(size[c])) continue;
@@ -354,19 +391,18 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
       int best = kNone, longest = 0;
       for (const auto& [n, length] : contact[c])
         if (length > longest && (n != kPlane || plane_ok)) best = n, longest = length;
-      target[c] = best;
-      changed |= best != kNone;
+      if (best == kNone) continue;
+      for (int p : points[c]) comp[p] = best;
+      if (best >= 0) arriving[best] += size[c];
+      size[c] = 0;
+      changed = true;
     }
-    for (int& c : comp)
-      if (c >= 0 && target[c] != kNone) c = target[c];
+    for (int c = 0; c < count; ++c) size[c] += arriving[c];
     if (!changed) break;
   }
-  if (!drop) return;
-  std::vector<int> size(count, 0);
-  for (int c : comp)
-    if (c >= 0) ++size[c];
+  if (!drop || std::none_of(size.begin(), size.end(), small)) return;
   for (int& c : comp)
-    if (c >= 0 && size[c] < min_points) c = kNone;
+    if (c >= 0 && small(size[c])) c = kNone;
 }
 
 // Pixels of a component that lie within plane_flat_sigmas of the sensor's noise of the support
@@ -391,12 +427,14 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
                            const SelectionParams& params, int threads) {
   if (!frame.organized()) throw std::invalid_argument("grid_surfaces: unorganized frame");
   const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  detail::Stopwatch watch;
   const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
   GridSurfaces out;
   FeatureParams normal_params;
   normal_params.normal_step = params.image_normal_step;
   if (params.edge_aware_normals) normal_params.normal_edge_ratio = params.depth_step_ratio;
   out.normals = point_normals(frame, normal_params, nthreads);
+  out.steps_ms.emplace_back("normals", watch.lap());
 
   // The support plane first: what lies in it within the sensor's noise is background.
   SupportPlane support;
@@ -404,9 +442,11 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
     support = support_plane(grid, out.normals, params);
   else
     support.in_plane.assign(frame.size(), 0);
+  out.steps_ms.emplace_back("support_plane", watch.lap());
   // Surfaces: what no depth step or concave crease separates.
   out.crease = params.split_concave ? concave_pixels(grid, out.normals, params)
                                     : std::vector<char>(frame.size(), 0);
+  out.steps_ms.emplace_back("creases", watch.lap());
   std::vector<char> open(frame.size(), 0);
   for (std::size_t p = 0; p < frame.size(); ++p)
     open[p] = frame.valid(p) && labelled[p] && !support.in_plane[p] && !out.crease[p];
@@ -414,7 +454,9 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
   for (std::size_t p = 0; p < frame.size(); ++p)
     if (support.in_plane[p] && labelled[p]) out.surface[p] = kPlane;
   fill(grid, out.surface);
+  out.steps_ms.emplace_back("surfaces", watch.lap());
   if (params.absorb_small) absorb_small(grid, support, params, out.count, false, out.surface);
+  out.steps_ms.emplace_back("small_pieces", watch.lap());
   out.plane_found = support.found;
   out.plane_normal = support.plane.normal;
   out.plane_offset = support.plane.offset;
@@ -445,15 +487,21 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   Selection s;
   s.instance.assign(frame.size(), 0);
   s.clusters = count;
+  detail::Stopwatch watch;
   if (params.merge_convex)
     merge_convex_links(grid, surfaces.normals, surfaces.crease, support, point_labels, params,
                        count, comp);
+  s.steps_ms.emplace_back("convex_merge", watch.lap());
   if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
+  s.steps_ms.emplace_back("small_pieces", watch.lap());
   if (params.join_occluded)
     detail::join_occluded_pieces(grid, surfaces.normals, params, count, comp);
+  s.steps_ms.emplace_back("occlusion_join", watch.lap());
   trim_flat_base(grid, support, params, comp);
+  s.steps_ms.emplace_back("ring_trim", watch.lap());
   if (params.join_containers && support.found)
     detail::join_container_pieces(grid, support.plane, params, count, comp);
+  s.steps_ms.emplace_back("container_join", watch.lap());
 
   // Instances in the order of their first pixel; the plane is one background instance.
   auto slot_of = [count](int c) { return c == kPlane ? count : c; };  // surfaces, then the plane
@@ -480,10 +528,7 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
         if (!plane && static_cast<int>(cand.points.size()) < params.min_candidate_points) return;
         keep[i] = 1;
         cand.label = point_labels[cand.points[0]];
-        cand.box = oriented_box(frame, cand.points);
-        cand.centroid = Eigen::Vector3d::Zero();
-        for (int p : cand.points) cand.centroid += frame.xyz[p].cast<double>();
-        cand.centroid /= static_cast<double>(cand.points.size());
+        describe_shape(frame, cand);
         cand.background = plane || is_background(frame, cand, params);
       },
       1);
@@ -494,6 +539,7 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
     for (int p : cand.points) s.instance[p] = cand.instance;
     s.components.push_back(std::move(cand));
   }
+  s.steps_ms.emplace_back("candidates", watch.lap());
   return s;
 }
 

@@ -221,6 +221,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
     detail::Stopwatch own;
     surfaces = grid_surfaces(frame, labelled, params.selection, threads);
     surfaces_ms = own.lap();
+    for (const auto& [step, ms] : surfaces.steps_ms)
+      r.steps_ms.emplace_back("grid_surfaces/" + step, ms);
   };
   if (r.paper_labels) {
     // 1-6: the paper's labels, with the geometry on a second thread beside stages 3-6.
@@ -247,6 +249,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params) {
                                          params.selection, params.threads)
                         : select_candidates(frame, r.voxels, r.point_labels, params.selection);
   r.times_ms.emplace_back("selection", watch.lap());
+  for (const auto& [step, ms] : r.selection.steps_ms)
+    r.steps_ms.emplace_back("selection/" + step, ms);
   r.total_ms = whole.lap();
   return r;
 }

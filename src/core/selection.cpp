@@ -387,32 +387,55 @@ bool is_background(const Frame& frame, const Candidate& c, const SelectionParams
   return inliers >= params.background_inlier_ratio * c.points.size();
 }
 
-OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points) {
+namespace {
+
+// The box about the points' principal axes (m: their moments).
+OrientedBox box_from_moments(const Frame& frame, const std::vector<int>& points,
+                             const detail::Moments3& m) {
   OrientedBox box;
-  if (points.empty()) return box;
-  const auto [mean, scatter] =
-      detail::moments(points.size(), [&](std::size_t j) { return frame.xyz[points[j]]; });
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m.scatter);
   // Largest variance first; each axis signed so its largest component is positive, the third
   // completing a right-handed frame, so the box does not flip between runs.
   Eigen::Matrix3d axes;
   for (int i = 0; i < 2; ++i) {
     Eigen::Vector3d a = eig.eigenvectors().col(2 - i);
-    Eigen::Index m;
-    a.cwiseAbs().maxCoeff(&m);
-    axes.col(i) = a[m] < 0 ? Eigen::Vector3d(-a) : a;
+    Eigen::Index k;
+    a.cwiseAbs().maxCoeff(&k);
+    axes.col(i) = a[k] < 0 ? Eigen::Vector3d(-a) : a;
   }
   axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   for (int p : points) {
-    const Eigen::Vector3d q = axes.transpose() * (frame.xyz[p].cast<double>() - mean);
+    const Eigen::Vector3d q = axes.transpose() * (frame.xyz[p].cast<double>() - m.mean);
     lo = lo.cwiseMin(q);
     hi = hi.cwiseMax(q);
   }
   box.axes = axes;
   box.extent = hi - lo;
-  box.centre = mean + axes * ((lo + hi) / 2);
+  box.centre = m.mean + axes * ((lo + hi) / 2);
   return box;
+}
+
+detail::Moments3 point_moments(const Frame& frame, const std::vector<int>& points) {
+  return detail::moments(points.size(), [&](std::size_t j) { return frame.xyz[points[j]]; });
+}
+
+}  // namespace
+
+OrientedBox oriented_box(const Frame& frame, const std::vector<int>& points) {
+  if (points.empty()) return {};
+  return box_from_moments(frame, points, point_moments(frame, points));
+}
+
+void describe_shape(const Frame& frame, Candidate& c) {
+  if (c.points.empty()) {
+    c.box = {};
+    c.centroid = Eigen::Vector3d::Zero();
+    return;
+  }
+  const detail::Moments3 m = point_moments(frame, c.points);
+  c.box = box_from_moments(frame, c.points, m);
+  c.centroid = m.mean;
 }
 
 namespace {
@@ -531,10 +554,7 @@ std::vector<Candidate> group_components(const std::vector<int>& component) {
 void describe_component(const Frame& frame, const std::vector<std::uint32_t>& point_labels,
                         const SelectionParams& params, Candidate& c) {
   c.label = point_labels[c.points[0]];
-  c.box = oriented_box(frame, c.points);
-  c.centroid = Eigen::Vector3d::Zero();
-  for (int p : c.points) c.centroid += frame.xyz[p].cast<double>();
-  c.centroid /= static_cast<double>(c.points.size());
+  describe_shape(frame, c);
   c.background = static_cast<int>(c.points.size()) >= params.min_candidate_points &&
                  is_background(frame, c, params);
 }

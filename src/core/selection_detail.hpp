@@ -10,4 +10,7 @@ namespace proxseg {
 // background_plane_distance of its best plane. Needs c.box and c.centroid.
 bool is_background(const Frame& frame, const Candidate& c, const SelectionParams& params);
 
+// c.box (oriented_box) and c.centroid (the mean of c.points) from one pass of moments.
+void describe_shape(const Frame& frame, Candidate& c);
+
 }  // namespace proxseg

@@ -239,6 +239,10 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   nlohmann::json concurrent = nlohmann::json::object();
   for (const auto& [stage, ms] : r.concurrent_ms) concurrent[stage] = ms;
   j["concurrent_times_ms"] = concurrent;
+  // Where the image-grid stages' time goes: "stage/step" (part of the stages above).
+  nlohmann::json steps = nlohmann::json::object();
+  for (const auto& [step, ms] : r.steps_ms) steps[step] = ms;
+  j["step_times_ms"] = steps;
   j["voxels"] = {{"count", r.voxels.size()}, {"clustered", r.clustered.size()}};
   j["initial_centroids"] = r.initial_centroids.size();
   // Whether stages 2-6 ran (needs_paper_labels); without them "labels" are the image-grid

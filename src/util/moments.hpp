@@ -21,10 +21,14 @@ Moments3 moments(std::size_t count, Point&& point) {
   Moments3 m;
   for (std::size_t j = 0; j < count; ++j) m.mean += point(j).template cast<double>();
   m.mean /= std::max<double>(1.0, static_cast<double>(count));
+  // The upper triangle only (the same products and sums as d d^T, so the same bits), mirrored.
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   for (std::size_t j = 0; j < count; ++j) {
     const Eigen::Vector3d d = point(j).template cast<double>() - m.mean;
-    m.scatter += d * d.transpose();
+    xx += d.x() * d.x(), xy += d.x() * d.y(), xz += d.x() * d.z();
+    yy += d.y() * d.y(), yz += d.y() * d.z(), zz += d.z() * d.z();
   }
+  m.scatter << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   return m;
 }
 

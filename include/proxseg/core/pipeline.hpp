@@ -73,6 +73,9 @@ struct SegmentResult {
   // Stages that ran on a second thread beside the ones above (the image-grid geometry of the
   // selection, beside Algorithm 1 .. point labels): not part of the sequence.
   std::vector<std::pair<std::string, double>> concurrent_ms;
+  // The steps inside the image-grid stages, as "stage/step" (GridSurfaces::steps_ms,
+  // Selection::steps_ms): where their time goes.
+  std::vector<std::pair<std::string, double>> steps_ms;
   double total_ms = 0;  // wall time of segment()
   int k() const { return static_cast<int>(centroids.rows()); }
 };

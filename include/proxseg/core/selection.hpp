@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace proxseg {
@@ -143,6 +145,8 @@ struct Selection {
   std::vector<Candidate> components;    // instance i is components[i - 1]
   int clusters = 0;                     // connected same-label voxel sets before splitting
   std::size_t weak_points = 0;          // points set aside as weak connections
+  // Wall time of each step inside select_on_grid(), in order (the voxel selection: none).
+  std::vector<std::pair<std::string, double>> steps_ms;
 };
 
 // point_labels: per point, 0 = invalid, else the segmentation label (every point of a voxel has
@@ -174,6 +178,8 @@ struct GridSurfaces {
   std::vector<char> crease;    // per pixel: on a concave crease
   std::vector<int> surface;    // per pixel: surface id 0..count-1, -2 the plane, -1 none
   int count = 0;               // surfaces (connected components before any joining)
+  // Wall time of each step inside grid_surfaces(), in order (normals, support plane, ...).
+  std::vector<std::pair<std::string, double>> steps_ms;
 };
 // labelled: per pixel, whether it takes part (valid and labelled).
 GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
