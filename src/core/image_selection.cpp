@@ -170,10 +170,11 @@ std::vector<char> concave_pixels(const ImageGrid& g, const std::vector<Eigen::Ve
             vb >= g.h())
           continue;
         const int a = va * g.w() + ua, b = vb * g.w() + ub;
-        if (!g.valid(a) || !g.valid(b) || !has_normal(normals[a]) || !has_normal(normals[b]))
-          continue;
+        // The normals first: parallel ones (most pairs) end the test. A pixel without a normal
+        // (missing ones have none) makes the product NaN, which fails here and below.
+        const float cos_ab = normals[a].dot(normals[b]);
+        if (!(cos_ab < cos_tol)) continue;
         if (!g.continuous(a, p, s) || !g.continuous(p, b, s)) continue;
-        if (normals[a].dot(normals[b]) >= cos_tol) continue;
         if ((normals[a] - normals[b]).dot(f.xyz[a] - f.xyz[b]) < 0) {
           concave[p] = 1;
           break;
