@@ -36,6 +36,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -92,10 +93,19 @@ struct SceneSet {
   std::string dir;  // the folder
 };
 
-// Runs args[0] with args (no shell), stdin, stdout and stderr on /dev/null, and waits for it.
-// Returns the wall time from spawn to exit in seconds; std::runtime_error if it cannot start or
-// exits other than with `expected_exit`.
-double run_process(const std::vector<std::string>& args, int expected_exit = 0) {
+// Seconds a process took: wall from spawn to exit, CPU = user + sys (its own and its threads').
+struct ProcessCost {
+  double wall = 0, cpu = 0;
+  ProcessCost& operator+=(const ProcessCost& o) {
+    wall += o.wall, cpu += o.cpu;
+    return *this;
+  }
+};
+
+// Runs args[0] with args (no shell), stdin, stdout and stderr on /dev/null, and waits for it
+// (wait4, for its CPU time). std::runtime_error if it cannot start or exits other than with
+// `expected_exit`.
+ProcessCost run_process(const std::vector<std::string>& args, int expected_exit = 0) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -110,9 +120,11 @@ double run_process(const std::vector<std::string>& args, int expected_exit = 0) 
   posix_spawn_file_actions_destroy(&actions);
   if (err != 0) throw std::runtime_error(args[0] + ": cannot start (" + std::strerror(err) + ")");
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw std::runtime_error(args[0] + ": waitpid: " + std::strerror(errno));
-  const double s = seconds_since(start);
+  struct rusage usage {};
+  while (wait4(pid, &status, 0, &usage) < 0)
+    if (errno != EINTR) throw std::runtime_error(args[0] + ": wait4: " + std::strerror(errno));
+  auto secs = [](const timeval& t) { return t.tv_sec + t.tv_usec * 1e-6; };
+  const ProcessCost cost{seconds_since(start), secs(usage.ru_utime) + secs(usage.ru_stime)};
   if (!WIFEXITED(status) || WEXITSTATUS(status) != expected_exit) {
     std::string cmd;
     for (const auto& a : args) cmd += (cmd.empty() ? "" : " ") + a;
@@ -120,7 +132,7 @@ double run_process(const std::vector<std::string>& args, int expected_exit = 0) 
         cmd + (WIFEXITED(status) ? ": exit status " + std::to_string(WEXITSTATUS(status))
                                  : ": killed by signal " + std::to_string(WTERMSIG(status))));
   }
-  return s;
+  return cost;
 }
 
 // A fresh directory under the system's temporary directory, removed with everything in it.
@@ -143,7 +155,7 @@ struct TempDir {
 struct ProcessTimes {
   std::string set, mode;
   int frames = 0;
-  double proxseg = 0, lccp = 0;  // sums of wall seconds
+  ProcessCost proxseg, lccp;  // sums over the frames
 };
 
 // The directory of this executable (/proc/self/exe; argv[0] when that is unavailable).
@@ -382,7 +394,7 @@ int main(int argc, char** argv) {
   // Whole-process wall time: each tool as its own process (read the PCD, segment, write the
   // outputs), timed from spawn to exit; outputs go to a temporary directory removed at the end.
   std::vector<ProcessTimes> process_times;
-  double startup_proxseg = 0, startup_lccp = 0;
+  ProcessCost startup_proxseg, startup_lccp;  // sums over 5 runs
   if (process_scenes > 0) {
     try {
       const TempDir tmp;
@@ -400,8 +412,8 @@ int main(int argc, char** argv) {
       };
       // Start-up alone: the help text, and lccp_process without arguments (usage, exit 2).
       for (int i = 0; i < 5; ++i) {
-        startup_proxseg += run_process({proxseg_cli, "--help"}) / 5;
-        startup_lccp += run_process({lccp_process}, 2) / 5;
+        startup_proxseg += run_process({proxseg_cli, "--help"});
+        startup_lccp += run_process({lccp_process}, 2);
       }
       for (std::size_t si = 0; si < sets.size(); ++si) {
         std::vector<std::filesystem::path> files = proxseg::scene_files(sets[si].dir);
@@ -415,7 +427,7 @@ int main(int argc, char** argv) {
         run_process({lccp_process, files.front().string(), "-o", tmp.path.string()});
         clear();
 
-        ProcessTimes single{sets[si].name, "one process per frame", n};
+        ProcessTimes single{sets[si].name, "one process per frame", n, {}, {}};
         for (int i = 0; i < n; ++i) {
           const auto& f = files[i];
           auto run_proxseg = [&] {
@@ -433,13 +445,15 @@ int main(int argc, char** argv) {
           }
           clear();
           std::cerr << "[process " << i + 1 << "/" << n << "] " << sets[si].name << ": "
-                    << f.filename().string() << " proxseg " << fmt(single.proxseg / (i + 1))
-                    << " s, lccp_process " << fmt(single.lccp / (i + 1)) << " s per frame\n";
+                    << f.filename().string() << " proxseg " << fmt(single.proxseg.wall / (i + 1))
+                    << " s, lccp_process " << fmt(single.lccp.wall / (i + 1))
+                    << " s per frame (wall)\n";
         }
         process_times.push_back(single);
 
         // One process for the n frames: proxseg's --batch takes a folder, so a folder of links.
-        ProcessTimes batch{sets[si].name, "one process for " + std::to_string(n) + " frames", n};
+        ProcessTimes batch{
+            sets[si].name, "one process for " + std::to_string(n) + " frames", n, {}, {}};
         const std::filesystem::path in = tmp.path / "in";
         std::filesystem::create_directory(in);
         std::vector<std::string> lccp_args = {lccp_process};
@@ -459,8 +473,9 @@ int main(int argc, char** argv) {
           batch.proxseg = run_process(proxseg_args);
         }
         clear();
-        std::cerr << "[process batch] " << sets[si].name << ": proxseg " << fmt(batch.proxseg / n)
-                  << " s, lccp_process " << fmt(batch.lccp / n) << " s per frame\n";
+        std::cerr << "[process batch] " << sets[si].name << ": proxseg "
+                  << fmt(batch.proxseg.wall / n) << " s, lccp_process " << fmt(batch.lccp.wall / n)
+                  << " s per frame (wall)\n";
         process_times.push_back(batch);
       }
     } catch (const std::exception& e) {  // a tool failed, or the temporary directory
@@ -537,24 +552,27 @@ int main(int argc, char** argv) {
     }
   }
   if (!process_times.empty()) {
-    md << "\n### Whole-process wall time per frame\n\n"
+    md << "\n### Whole-process time per frame (wall and CPU)\n\n"
        << "Each process reads the PCD, segments it and writes its outputs: `proxseg segment` "
           "(preset default) writes the labelled PCD, the PNG picture and the JSON report; "
           "`lccp_process` (bench/lccp_process.cpp, PCL only: the PCL LCCP above, same parameters "
           "and labels) writes a labelled PCD. Wall time from spawn to exit (posix_spawn + "
-          "waitpid), on the first "
+          "wait4), CPU time = user + sys of the process and its threads (wait4), on the first "
        << process_scenes
        << " scenes of each set (files already in the page cache), after one untimed run of "
           "each; one process per frame alternates which tool goes first. Start-up alone (mean "
           "of 5): `proxseg --help` "
-       << fmt(startup_proxseg) << " s, `lccp_process` without arguments " << fmt(startup_lccp)
-       << " s.\n\n"
-       << "| set | mode | proxseg s/frame | LCCP s/frame | proxseg / LCCP |\n"
-       << "|---|---|---|---|---|\n";
+       << fmt(startup_proxseg.wall / 5) << " s wall / " << fmt(startup_proxseg.cpu / 5)
+       << " s CPU, `lccp_process` without arguments " << fmt(startup_lccp.wall / 5) << " / "
+       << fmt(startup_lccp.cpu / 5) << " s.\n\n"
+       << "| set | mode | proxseg wall s/frame | LCCP wall s/frame | wall proxseg / LCCP | "
+          "proxseg CPU s/frame | LCCP CPU s/frame | CPU proxseg / LCCP |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
     std::vector<ProcessTimes> table = process_times;
     if (sets.size() > 1)
       for (const bool single : {true, false}) {
-        ProcessTimes both{"both sets", single ? "one process per frame" : "one process per set"};
+        ProcessTimes both{
+            "both sets", single ? "one process per frame" : "one process per set", 0, {}, {}};
         for (const auto& t : process_times)
           if ((t.mode == "one process per frame") == single) {
             both.frames += t.frames;
@@ -564,9 +582,12 @@ int main(int argc, char** argv) {
         table.push_back(both);
       }
     for (const auto& t : table) {
-      const double p = t.proxseg / std::max(1, t.frames), l = t.lccp / std::max(1, t.frames);
-      md << "| " << t.set << " | " << t.mode << " | " << fmt(p) << " | " << fmt(l) << " | "
-         << (l > 0 ? fmt(p / l, 2) : "-") << " |\n";
+      const double n = std::max(1, t.frames);
+      md << "| " << t.set << " | " << t.mode;
+      for (const auto& [p, l] : {std::pair{t.proxseg.wall / n, t.lccp.wall / n},
+                                 std::pair{t.proxseg.cpu / n, t.lccp.cpu / n}})
+        md << " | " << fmt(p) << " | " << fmt(l) << " | " << (l > 0 ? fmt(p / l, 2) : "-");
+      md << " |\n";
     }
   }
   if (!run_variants.empty()) {
