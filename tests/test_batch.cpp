@@ -91,6 +91,7 @@ std::map<std::string, std::string> outputs(const fs::path& dir) {
 nlohmann::json timeless(nlohmann::json j) {
   j.erase("times_ms");
   j.erase("concurrent_times_ms");
+  j.erase("step_times_ms");
   if (j.contains("candidates") && j["candidates"].is_array())
     for (auto& c : j["candidates"]) c.erase("times_ms");
   return j;

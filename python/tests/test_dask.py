@@ -64,6 +64,7 @@ def timeless(report: dict) -> dict:
     report = dict(report)
     report.pop("times_ms", None)
     report.pop("concurrent_times_ms", None)
+    report.pop("step_times_ms", None)
     if isinstance(report.get("candidates"), list):
         report["candidates"] = [{k: v for k, v in c.items() if k != "times_ms"}
                                 for c in report["candidates"]]
