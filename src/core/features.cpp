@@ -5,11 +5,10 @@
 
 #include "gabor_reference.hpp"
 #include "util/moments.hpp"
+#include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"
 
 #include <omp.h>
-#include <open3d/geometry/KDTreeSearchParam.h>
-#include <open3d/geometry/PointCloud.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -582,6 +581,53 @@ void normals_row(const Eigen::Vector3f* xyz, const float* mask, const Eigen::Vec
   }
 }
 
+// Unorganized: PCA normals over the k nearest valid points (the point itself among them), as
+// Open3D's EstimateNormals computes them (the covariance from the neighbours' moments, the
+// eigenvector of its smallest eigenvalue), oriented towards the sensor origin.
+void unorganized_normals(const Frame& frame, int k, int threads,
+                         std::vector<Eigen::Vector3f>& normals) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) {
+      points.push_back(frame.xyz[i].cast<double>());
+      index.push_back(i);
+    }
+  if (points.size() < 3) return;
+  const detail::NearestPoints nearest(points);
+  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  detail::parallel_for(
+      static_cast<int>(points.size()), nthreads,
+      [&](int j) {
+        const auto neighbours = nearest.nearest(points[j], k);
+        Eigen::Vector3d normal(0, 0, 1);
+        if (neighbours.size() >= 3) {
+          // Open3D's cumulants: means of x, y, z and of their products, in neighbour order.
+          Eigen::Matrix<double, 9, 1> m = Eigen::Matrix<double, 9, 1>::Zero();
+          for (const auto& [q, d2] : neighbours) {
+            const Eigen::Vector3d& p = points[q];
+            m(0) += p(0), m(1) += p(1), m(2) += p(2);
+            m(3) += p(0) * p(0), m(4) += p(0) * p(1), m(5) += p(0) * p(2);
+            m(6) += p(1) * p(1), m(7) += p(1) * p(2), m(8) += p(2) * p(2);
+          }
+          m /= static_cast<double>(neighbours.size());
+          Eigen::Matrix3d cov;
+          cov(0, 0) = m(3) - m(0) * m(0);
+          cov(1, 1) = m(6) - m(1) * m(1);
+          cov(2, 2) = m(8) - m(2) * m(2);
+          cov(0, 1) = cov(1, 0) = m(4) - m(0) * m(1);
+          cov(0, 2) = cov(2, 0) = m(5) - m(0) * m(2);
+          cov(1, 2) = cov(2, 1) = m(7) - m(1) * m(2);
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+          solver.compute(cov, Eigen::ComputeEigenvectors);
+          normal = solver.eigenvectors().col(0);
+        }
+        if (normal.dot(points[j]) > 0) normal = -normal;
+        normals[index[j]] = normal.cast<float>();
+      },
+      256);
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeatureParams& params,
@@ -589,21 +635,7 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   const Eigen::Vector3f nan = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
   std::vector<Eigen::Vector3f> normals(frame.size(), nan);
   if (!frame.organized()) {
-    // Unorganized: PCA normals over k nearest neighbours (Open3D), oriented to the sensor origin.
-    open3d::geometry::PointCloud cloud;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < frame.size(); ++i)
-      if (frame.valid(i)) {
-        cloud.points_.push_back(frame.xyz[i].cast<double>());
-        index.push_back(i);
-      }
-    if (cloud.points_.size() < 3) return normals;
-    cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(params.normal_knn), false);
-    for (std::size_t j = 0; j < index.size(); ++j) {
-      Eigen::Vector3d n = cloud.normals_[j];
-      if (n.dot(cloud.points_[j]) > 0) n = -n;
-      normals[index[j]] = n.cast<float>();
-    }
+    unorganized_normals(frame, params.normal_knn, threads, normals);
     return normals;
   }
   // Organized: smooth the xyz image (NaN-aware box filter), then cross the central differences

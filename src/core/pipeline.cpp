@@ -1,10 +1,9 @@
 // segment(): the paper's sections 3.1-3.3, top to bottom.
 #include <proxseg/core/pipeline.hpp>
 
+#include "util/nearest_points.hpp"
 #include "util/run_beside.hpp"
 #include "util/stopwatch.hpp"
-
-#include <open3d/geometry/KDTreeFlann.h>
 
 #include <omp.h>
 #include <functional>
@@ -24,14 +23,11 @@ std::vector<int> label_sources(const Frame& frame, const VoxelGrid& grid,
       for (int p : grid.points[v]) c += frame.xyz[p].cast<double>();
       return Eigen::Vector3d(c / static_cast<double>(grid.points[v].size()));
     };
-    Eigen::MatrixXd centres(3, clustered.size());
-    for (std::size_t i = 0; i < clustered.size(); ++i) centres.col(i) = centroid(clustered[i]);
-    open3d::geometry::KDTreeFlann tree(centres);
-    std::vector<int> index(1);
-    std::vector<double> dist2(1);
+    std::vector<Eigen::Vector3d> centres(clustered.size());
+    for (std::size_t i = 0; i < clustered.size(); ++i) centres[i] = centroid(clustered[i]);
+    const detail::NearestPoints index(std::move(centres));
     for (std::size_t v = 0; v < grid.size(); ++v)
-      if (source[v] < 0 && tree.SearchKNN(centroid(static_cast<int>(v)), 1, index, dist2) == 1)
-        source[v] = index[0];
+      if (source[v] < 0) source[v] = index.nearest(centroid(static_cast<int>(v)), 1)[0].first;
   }
   return source;
 }

@@ -5,9 +5,8 @@
 
 #include "selection_detail.hpp"
 #include "util/moments.hpp"
+#include "util/nearest_points.hpp"
 #include "util/union_find.hpp"
-
-#include <open3d/geometry/KDTreeFlann.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -525,15 +524,15 @@ void reattach_weak_points(const Frame& frame, const VoxelGrid& grid, const Densi
   for (int p : orphans) orphans_of[cluster[p]].push_back(p);
   for (int c = 0; c < clusters; ++c) {
     if (orphans_of[c].empty()) continue;
-    Eigen::MatrixXd xyz(3, dense_of[c].size());
+    if (dense_of[c].empty()) continue;
+    std::vector<Eigen::Vector3d> xyz(dense_of[c].size());
     for (std::size_t i = 0; i < dense_of[c].size(); ++i)
-      xyz.col(i) = frame.xyz[dense_of[c][i]].cast<double>();
-    const open3d::geometry::KDTreeFlann tree(xyz);
-    std::vector<int> nearest(1);
-    std::vector<double> dist2(1);
-    for (int p : orphans_of[c])
-      if (tree.SearchKNN(Eigen::Vector3d(frame.xyz[p].cast<double>()), 1, nearest, dist2) == 1)
-        component[p] = component[dense_of[c][nearest[0]]];
+      xyz[i] = frame.xyz[dense_of[c][i]].cast<double>();
+    const detail::NearestPoints index(std::move(xyz));
+    for (int p : orphans_of[c]) {
+      const int nearest = index.nearest(frame.xyz[p].cast<double>(), 1)[0].first;
+      component[p] = component[dense_of[c][nearest]];
+    }
   }
 }
 
