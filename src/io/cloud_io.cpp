@@ -7,11 +7,6 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/geometry/TriangleMesh.h>
-#include <open3d/io/PointCloudIO.h>
-#include <open3d/io/TriangleMeshIO.h>
-#include <open3d/utility/Logging.h>
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -30,6 +25,7 @@
 
 #include "image_io.hpp"
 #include "lzf.hpp"
+#include "ply_io.hpp"
 
 namespace fs = std::filesystem;
 
@@ -607,101 +603,40 @@ std::string size_str(const cv::Mat& m) {
   return std::to_string(m.cols) + "x" + std::to_string(m.rows);
 }
 
-// Reads the PLY header and checks the vertex count against the file size before Open3D
-// allocates arrays of that count.
-void check_ply_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, std::string("cannot open (") + std::strerror(errno) + ")");
-  std::string line;
-  std::getline(in, line);
-  if (line != "ply" && line != "ply\r")
-    fail(path, "not a PLY file (expected the first line 'ply')");
-  bool ascii = false, in_vertex = false, have_vertex = false;
-  std::uint64_t vertices = 0, min_vertex_bytes = 0;
-  for (int n = 0; std::getline(in, line); ++n) {
-    if (n > 10000) break;
-    const auto tok = split_ws(line);
-    if (tok.empty()) continue;
-    if (tok[0] == "end_header") {
-      if (!have_vertex) fail(path, "PLY has no vertex element (expected 'element vertex N')");
-      const std::uint64_t file_size = fs::file_size(path);
-      if (min_vertex_bytes > 0 && vertices > file_size / min_vertex_bytes)
-        fail(path, "PLY header declares " + std::to_string(vertices) +
-                       " vertices but the file has only " + std::to_string(file_size) +
-                       " bytes (expected a complete file)");
-      return;
-    }
-    if (tok[0] == "format" && tok.size() >= 2) ascii = tok[1] == "ascii";
-    if (tok[0] == "element") {
-      in_vertex = tok.size() == 3 && tok[1] == "vertex";
-      if (in_vertex) {
-        if (!parse_u64(tok[2], vertices))
-          fail(path, "PLY vertex count " + quote(tok[2]) + " is invalid (expected an integer)");
-        have_vertex = true;
-      }
-    } else if (tok[0] == "property" && in_vertex && tok.size() >= 3) {
-      std::uint64_t size = 1;  // lists and unknown types: at least one byte
-      const std::string_view t = tok[1];
-      if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") size = 2;
-      if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
-          t == "float32")
-        size = 4;
-      if (t == "double" || t == "float64") size = 8;
-      min_vertex_bytes += ascii ? 2 : size;  // ascii: a digit and a separator at least
-    }
-  }
-  fail(path, "PLY header has no end_header line (expected a complete PLY header)");
-}
-
 }  // namespace
 
 Frame read_pcd(const std::string& path, const std::string& label_field) {
   return read_pcd_data(path, read_whole_file(path), label_field);
 }
 
+// Colours as Open3D's reader gave them (the stored value / 255, then back to 0..255).
 Frame read_ply(const std::string& path) {
   require_file(path);
-  check_ply_header(path);
-  open3d::geometry::PointCloud pc;
-  bool ok = false;
-  {
-    // Open3D logs its own warnings on failure; we report one InputError instead.
-    struct Quiet {
-      open3d::utility::VerbosityLevel saved = open3d::utility::GetVerbosityLevel();
-      Quiet() { open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error); }
-      ~Quiet() { open3d::utility::SetVerbosityLevel(saved); }
-    } quiet;
-    try {
-      ok = open3d::io::ReadPointCloud(path, pc, open3d::io::ReadPointCloudOption("ply"));
-    } catch (const std::exception& e) {
-      fail(path, "cannot read PLY (" + one_line(e.what()) + ")");
-    }
+  detail::PlyData ply;
+  try {
+    ply = detail::parse_ply(read_whole_file(path));
+  } catch (const std::runtime_error& e) {
+    fail(path, one_line(e.what()));
   }
-  if (!ok) fail(path, "cannot read PLY (expected an ascii or binary PLY with vertices)");
-  if (pc.points_.empty()) fail(path, "PLY has no vertices (expected at least one point)");
-  // No colours at all is an XYZ-only cloud (Frame::rgb left empty); some but not one per vertex
-  // is a broken file.
-  if (!pc.colors_.empty() && pc.colors_.size() != pc.points_.size())
-    fail(path, "PLY has " + std::to_string(pc.colors_.size()) + " vertex colours for " +
-                   std::to_string(pc.points_.size()) +
-                   " vertices (expected one per vertex, or none)");
-  if (pc.points_.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+  if (ply.vertices.empty()) fail(path, "PLY has no vertices (expected at least one point)");
+  if (ply.vertices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     fail(path, "PLY has too many vertices (expected < 2^31)");
   Frame frame;
-  const std::size_t n = pc.points_.size();
+  const std::size_t n = ply.vertices.size();
   frame.width = static_cast<int>(n);
   frame.height = 1;
   frame.xyz.resize(n);
-  frame.rgb.resize(pc.colors_.empty() ? 0 : n);
-  auto to_u8 = [](double c) {
+  frame.rgb.resize(ply.colours.empty() ? 0 : n);  // no colours: an XYZ-only cloud
+  auto to_u8 = [](double stored) {
+    const double c = stored / 255.0;
     if (!(c > 0)) return std::uint8_t{0};
     if (c >= 1) return std::uint8_t{255};
     return static_cast<std::uint8_t>(std::lround(c * 255.0));
   };
-  for (std::size_t i = 0; i < n; ++i) frame.xyz[i] = pc.points_[i].cast<float>();
+  for (std::size_t i = 0; i < n; ++i) frame.xyz[i] = ply.vertices[i].cast<float>();
   for (std::size_t i = 0; i < frame.rgb.size(); ++i) {
-    const auto& c = pc.colors_[i];
-    frame.rgb[i] = {to_u8(c.x()), to_u8(c.y()), to_u8(c.z())};
+    const auto& c = ply.colours[i];
+    frame.rgb[i] = {to_u8(c[0]), to_u8(c[1]), to_u8(c[2])};
   }
   if (frame.valid_count() == 0)
     fail(path, "has no valid points (all vertices have NaN or infinite coordinates)");
@@ -727,41 +662,37 @@ Mesh read_mesh(const std::string& path, double scale) {
   if (ext == ".obj") return read_obj(path, scale);  // textured: obj_io.hpp
   if (ext != ".ply")
     fail(path, "unknown mesh extension " + quote(ext) + " (expected .ply or .obj)");
-  check_ply_header(path);
-  open3d::geometry::TriangleMesh tm;
-  bool ok = false;
-  {
-    const open3d::utility::VerbosityLevel saved = open3d::utility::GetVerbosityLevel();
-    open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
-    try {
-      ok = open3d::io::ReadTriangleMesh(path, tm);
-    } catch (const std::exception& e) {
-      open3d::utility::SetVerbosityLevel(saved);
-      fail(path, "cannot read PLY mesh (" + one_line(e.what()) + ")");
-    }
-    open3d::utility::SetVerbosityLevel(saved);
+  detail::PlyData ply;
+  try {
+    ply = detail::parse_ply(read_whole_file(path));
+  } catch (const std::runtime_error& e) {
+    fail(path, one_line(e.what()));
   }
-  if (!ok) fail(path, "cannot read PLY mesh (expected vertices and triangle faces)");
-  if (tm.vertices_.empty() || tm.triangles_.empty())
-    fail(path, "mesh has " + std::to_string(tm.vertices_.size()) + " vertices and " +
-                   std::to_string(tm.triangles_.size()) + " faces (expected both)");
+  if (ply.vertices.empty() || ply.triangles.empty())
+    fail(path, "mesh has " + std::to_string(ply.vertices.size()) + " vertices and " +
+                   std::to_string(ply.triangles.size()) + " faces (expected both)");
   Mesh m;
-  const int n = static_cast<int>(tm.vertices_.size());
+  const int n = static_cast<int>(ply.vertices.size());
   m.vertices.reserve(n);
-  for (const auto& v : tm.vertices_) {
+  for (const auto& v : ply.vertices) {
     if (!v.allFinite()) fail(path, "mesh has a vertex with NaN or infinite coordinates");
     m.vertices.push_back((v * scale).cast<float>());
   }
-  const bool coloured = tm.vertex_colors_.size() == tm.vertices_.size();
+  const bool coloured = ply.colours.size() == ply.vertices.size();
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d c =
-        coloured ? Eigen::Vector3d(tm.vertex_colors_[i].cwiseMax(0.0).cwiseMin(1.0) * 255.0)
-                 : Eigen::Vector3d(128, 128, 128);
+        coloured
+            ? Eigen::Vector3d(
+                  (Eigen::Vector3d(ply.colours[i][0], ply.colours[i][1], ply.colours[i][2]) / 255.0)
+                      .cwiseMax(0.0)
+                      .cwiseMin(1.0) *
+                  255.0)
+            : Eigen::Vector3d(128, 128, 128);
     m.colours.push_back({static_cast<std::uint8_t>(std::lround(c.x())),
                          static_cast<std::uint8_t>(std::lround(c.y())),
                          static_cast<std::uint8_t>(std::lround(c.z()))});
   }
-  for (const auto& t : tm.triangles_) {
+  for (const auto& t : ply.triangles) {
     if ((t.array() < 0).any() || (t.array() >= n).any())
       fail(path, "mesh has a face with a vertex index outside 0.." + std::to_string(n - 1));
     m.triangles.push_back(t);

@@ -1,0 +1,24 @@
+// PLY reading (ascii, binary little and big endian): the vertices, their colours and the faces,
+// as Open3D's reader gives them, without loading Open3D (the segmentation path reads PLY clouds).
+// Private to the library.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace proxseg::detail {
+
+struct PlyData {
+  std::vector<Eigen::Vector3d> vertices;       // x y z of every vertex
+  std::vector<std::array<double, 3>> colours;  // red green blue as stored; empty if none
+  std::vector<Eigen::Vector3i> triangles;      // faces, a polygon fanned into triangles
+};
+
+// Parses a whole PLY file. Properties of any PLY number type are read; elements other than
+// "vertex" and "face" are skipped. Throws std::runtime_error with a one-line reason (header line
+// or element and record, what was expected) for anything malformed or truncated; counts are
+// checked against the bytes left before anything of that size is allocated.
+PlyData parse_ply(const std::string& bytes);
+
+}  // namespace proxseg::detail
