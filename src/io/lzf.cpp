@@ -116,11 +116,15 @@ unsigned char* put_literals(const unsigned char* in, std::size_t from, std::size
 }  // namespace
 
 std::string lzf_compress(const unsigned char* in, std::size_t size) {
-  std::string out;
-  if (size == 0) return out;
-  // Worst case: all literals, one control byte per 32.
-  out.resize(size + size / kMaxLiteral + 1);
-  auto* const out_begin = reinterpret_cast<unsigned char*>(out.data());
+  std::string out(lzf_bound(size), '\0');
+  out.resize(lzf_compress(in, size, reinterpret_cast<unsigned char*>(out.data())));
+  return out;
+}
+
+std::size_t lzf_compress(const unsigned char* in, std::size_t size, unsigned char* out) {
+  if (size == 0) return 0;
+  // lzf_bound: the worst case is all literals, one control byte per 32.
+  unsigned char* const out_begin = out;
   unsigned char* op = out_begin;
   // Position + 1 of the last occurrence of each hashed 3-byte prefix; 0 = none. Zero-initialised
   // so that the output depends on the input only.
@@ -163,8 +167,7 @@ std::string lzf_compress(const unsigned char* in, std::size_t size) {
     }
   }
   op = put_literals(in, lit_start, size, op);
-  out.resize(static_cast<std::size_t>(op - out_begin));
-  return out;
+  return static_cast<std::size_t>(op - out_begin);
 }
 
 }  // namespace proxseg::detail

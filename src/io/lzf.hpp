@@ -19,4 +19,11 @@ void lzf_decompress(const unsigned char* in, std::size_t in_size, unsigned char*
 // most). An empty input gives an empty output.
 std::string lzf_compress(const unsigned char* in, std::size_t size);
 
+// The same bytes into out[0, lzf_bound(size)) (the caller's buffer, not cleared first); returns
+// how many were written.
+std::size_t lzf_compress(const unsigned char* in, std::size_t size, unsigned char* out);
+inline std::size_t lzf_bound(std::size_t size) {
+  return size == 0 ? 0 : size + size / 32 + 1;
+}
+
 }  // namespace proxseg::detail
