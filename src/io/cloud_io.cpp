@@ -27,6 +27,7 @@
 #include "image_io.hpp"
 #include "lzf.hpp"
 #include "ply_io.hpp"
+#include "text_fields.hpp"
 
 namespace fs = std::filesystem;
 
@@ -105,17 +106,7 @@ std::string_view next_line(std::string_view all, std::size_t& pos) {
   return line;
 }
 
-std::vector<std::string_view> split_ws(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    const std::size_t b = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    if (i > b) out.push_back(line.substr(b, i - b));
-  }
-  return out;
-}
+using detail::split_ws;
 
 bool parse_u64(std::string_view s, std::uint64_t& v) {
   if (s.empty()) return false;

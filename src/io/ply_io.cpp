@@ -1,5 +1,7 @@
 #include "ply_io.hpp"
 
+#include "text_fields.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -67,18 +69,6 @@ struct Element {
 enum class Format { kAscii, kLittle, kBig };
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "binary PLY is read on little-endian");
-
-std::vector<std::string_view> words(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
-  }
-  return out;
-}
 
 // Reads values one by one from the body, ascii tokens or binary numbers.
 class Body {
@@ -171,7 +161,7 @@ std::vector<Element> parse_header(const std::string& bytes, Format& format, std:
   bool have_format = false;
   for (int number = 2; next_line(line); ++number) {
     const std::string at = "header line " + std::to_string(number);
-    const auto w = words(line);
+    const auto w = split_ws(line);
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") {
       if (!have_format)
