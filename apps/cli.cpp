@@ -1,5 +1,6 @@
 // The pieces shared by the commands of the proxseg CLI (cli.hpp).
 #include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
@@ -19,6 +20,36 @@
 namespace cli {
 
 using proxseg::InputError;
+
+const char* tool_about(const std::string& name) {
+  for (const ToolCommand& c : kToolCommands)
+    if (name == c.name) return c.about;
+  return "";
+}
+
+void describe_app(CLI::App& app) {
+  app.name("proxseg");
+  app.description("proxseg: unsupervised RGB-D segmentation and object recognition");
+  app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
+                                        proxseg::git_commit() + ")");
+  app.require_subcommand(1);
+}
+
+int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch) {
+  try {
+    app.parse(argc, argv);
+    return dispatch();
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help (code 0) or the usage error
+    return code == 0 ? 0 : 2;
+  } catch (const InputError& e) {
+    std::cerr << "proxseg: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "proxseg: error: " << e.what() << "\n";
+    return 1;
+  }
+}
 
 void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--color", o.color, "Colour image (PNG/JPG) of an RGB-D pair");

@@ -77,6 +77,29 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
 // a summary of what was done; a second one ends the process at once (the default action).
 void catch_interrupts();
 bool interrupted();
+// The commands that need recognition or evaluation (the libraries linked with Open3D): they are
+// the program proxseg-tools, which `proxseg` runs in its own place (exec, same arguments), so
+// that a process that segments never loads Open3D (docs/architecture.md). `proxseg --help` lists
+// them with these descriptions.
+struct ToolCommand {
+  const char* name;
+  const char* about;
+};
+inline constexpr ToolCommand kToolCommands[] = {
+    {"db", "Build or inspect a model database (paper 3.4)"},
+    {"recognize", "Name every candidate object of a scene from a model database (paper 3.4)"},
+    {"eval-seg", "Score a segmentation against ground truth (docs/metrics.md), or a whole folder"},
+    {"synth", "Write the built-in synthetic tabletop scene (with ground truth)"},
+};
+// The description of a tool command; "" for another name.
+const char* tool_about(const std::string& name);
+
+// Parses argv into app and runs the chosen command (dispatch returns its exit code): the help
+// (exit 0), a usage error (2), InputError or another error (1, "proxseg: error: ..." on stderr).
+int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch);
+// The application both programs start from: its name, description and --version.
+void describe_app(CLI::App& app);
+
 // Exit code of a batch stopped by an interrupt (128 + SIGINT, the shell's convention).
 constexpr int kInterruptedExit = 130;
 

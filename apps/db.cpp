@@ -2,7 +2,7 @@
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
 
 #include <cmath>
 #include <iostream>
@@ -14,7 +14,7 @@ namespace cli {
 using proxseg::InputError;
 
 void add_db(CLI::App& app, DbOptions& o) {
-  auto* db = app.add_subcommand("db", "Build or inspect a model database (paper 3.4)");
+  auto* db = app.add_subcommand("db", tool_about("db"));
   db->require_subcommand(1);
   const auto descriptor = [&](CLI::App* cmd) {
     cmd->add_option("--voxel-size", o.voxel_size,

@@ -21,8 +21,7 @@ namespace cli {
 using proxseg::InputError;
 
 void add_eval(CLI::App& app, EvalOptions& o) {
-  auto* cmd = app.add_subcommand(
-      "eval-seg", "Score a segmentation against ground truth (docs/metrics.md), or a whole folder");
+  auto* cmd = app.add_subcommand("eval-seg", tool_about("eval-seg"));
   cmd->add_option("truth", o.truth, "Ground-truth PCD with a label field (e.g. mOSD)");
   cmd->add_option("predicted", o.predicted,
                   "Predicted PCD of the same cloud (proxseg output or any PCD with the field)");

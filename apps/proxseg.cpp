@@ -1,55 +1,62 @@
 // proxseg command-line tool: proxseg <command> [options]. Logs on stderr, results on stdout or
 // files. Exit codes: 0 success, 1 bad input, 2 usage. One file per command (cli.hpp).
-#include <proxseg/core/frame.hpp>
+// This program segments (segment, summary) and loads only proxseg's core and io libraries; the
+// commands of kToolCommands run in proxseg-tools (proxseg_tools.cpp), which it executes in its
+// own place with the same arguments, so that a segmenting process never loads Open3D.
 #include <proxseg/core/memory.hpp>
-#include <proxseg/core/version.hpp>
 
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 
-#include <exception>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
+#include <system_error>
 
 #include "cli.hpp"
 
+namespace fs = std::filesystem;
 using namespace cli;
-using proxseg::InputError;
+
+namespace {
+
+// proxseg-tools beside this program (the build tree) or in ../libexec/proxseg (an install).
+fs::path tools_program() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path dir = ec ? fs::path(".") : self.parent_path();
+  for (const fs::path& p : {dir / "proxseg-tools", dir / "../libexec/proxseg/proxseg-tools"})
+    if (fs::exists(p, ec)) return p;
+  return dir / "../libexec/proxseg/proxseg-tools";
+}
+
+// Replaces this process with proxseg-tools; returns only when that fails (exit code 1).
+int run_tools(char** argv) {
+  const fs::path tools = tools_program();
+  ::execv(tools.c_str(), argv);
+  std::cerr << "proxseg: error: cannot run " << tools.string() << " for `" << argv[1]
+            << "`: " << std::strerror(errno) << "\n";
+  return 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && tool_about(argv[1])[0] != '\0') return run_tools(argv);
   proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
-  CLI::App app{"proxseg: unsupervised RGB-D segmentation and object recognition"};
-  app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
-                                        proxseg::git_commit() + ")");
-  app.require_subcommand(1);
+  CLI::App app;
+  describe_app(app);
   SegmentCommand segment;
   add_segment(app, segment);
-  DbOptions db;
-  add_db(app, db);
-  RecognizeOptions recognize;
-  add_recognize(app, recognize);
-  EvalOptions eval;
-  add_eval(app, eval);
-  SynthOptions synth;
-  add_synth(app, synth);
+  // Listed in the help; never parsed here (run_tools above).
+  for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
   SummaryOptions summary;
   add_summary(app, summary);
-  try {
-    app.parse(argc, argv);
+  return run_app(app, argc, argv, [&] {
     if (app.got_subcommand("segment")) return run_segment(segment);
-    if (app.got_subcommand("synth")) return run_synth(synth);
-    if (app.got_subcommand("eval-seg")) return run_eval(eval);
-    if (app.got_subcommand("db")) return run_db(db);
-    if (app.got_subcommand("recognize")) return run_recognize(recognize);
     if (app.got_subcommand("summary")) return run_summary(summary);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help (code 0) or the usage error
-    return code == 0 ? 0 : 2;
-  } catch (const InputError& e) {
-    std::cerr << "proxseg: error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "proxseg: error: " << e.what() << "\n";
-    return 1;
-  }
-  return 2;
+    return 2;
+  });
 }

@@ -2,12 +2,13 @@
 // recognise one already segmented cloud (--object), or every frame of a dataset (--batch,
 // batch.cpp).
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/recognition.hpp>
+#include <proxseg/recognition/recognize_frame.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -21,8 +22,7 @@ namespace cli {
 using proxseg::InputError;
 
 void add_recognize(CLI::App& app, RecognizeOptions& o) {
-  auto* cmd = app.add_subcommand(
-      "recognize", "Name every candidate object of a scene from a model database (paper 3.4)");
+  auto* cmd = app.add_subcommand("recognize", tool_about("recognize"));
   cmd->add_option("input", o.input,
                   "Scene point cloud (.pcd organized or not, .ply); or use --color/--depth");
   cmd->add_option("--db", o.db, "Model database directory (proxseg db add/render)")->required();

@@ -17,8 +17,7 @@ namespace cli {
 using proxseg::InputError;
 
 void add_synth(CLI::App& app, SynthOptions& o) {
-  auto* cmd = app.add_subcommand("synth",
-                                 "Write the built-in synthetic tabletop scene (with ground truth)");
+  auto* cmd = app.add_subcommand("synth", tool_about("synth"));
   cmd->add_option("-o,--output", o.output, "Output PCD path (--count: a folder)")->required();
   cmd->add_option("--seed", o.seed, "Seed of the depth noise (--clutter: of the scene)");
   cmd->add_option("--noise", o.noise, "Depth noise std at 1 m, metres");

@@ -13,7 +13,7 @@
 //                       [--json]
 #include <proxseg/core/colour.hpp>
 #include <proxseg/core/memory.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>

@@ -9,7 +9,7 @@
 // bench/peers_ppf.cpp: this header needs none of them.
 #pragma once
 #include <proxseg/core/database.hpp>
-#include <proxseg/core/registration.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>

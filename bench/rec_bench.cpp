@@ -12,7 +12,7 @@
 #include "bench_util.hpp"
 
 #include <proxseg/core/memory.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>

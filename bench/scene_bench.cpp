@@ -12,7 +12,7 @@
 //                    [--peers all|none] [--json]
 #include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>

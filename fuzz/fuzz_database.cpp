@@ -2,7 +2,7 @@
 // index.json, one view's PCD and its feature cache, written where the seed's index names them
 // (views/obj-000.pcd, views/obj-000.fpfh); a mutated index may name other files.
 #include <proxseg/core/database.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
 
 #include "fuzz_util.hpp"
 

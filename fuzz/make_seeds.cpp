@@ -3,7 +3,7 @@
 // (truncated inputs) and a few hand-mutated headers. Usage: make_seeds DATA_DIR OUT_DIR
 #include <proxseg/core/database.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
 #include <proxseg/io/params.hpp>
 
 #include <cstring>

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # That check_layering.sh fails on each kind of wrong-way include: copies of the tree with one
-# injected (a core header including io, io including eval, a core source including an io
+# injected (a core header including io, io including eval or recognition, core including
+# recognition, a core source including an io
 # private file, a src/util helper including a proxseg header, the Python bindings including
 # eval), each must be reported with its
 # file, and the untouched copy must pass.
@@ -33,9 +34,11 @@ expect_fail() {  # FILE LINE-TO-ADD
 fresh
 bash "$check" "$work/tree"
 expect_fail include/proxseg/core/frame.hpp '#include <proxseg/io/cloud_io.hpp>'
-expect_fail include/proxseg/core/recognition.hpp '#include <proxseg/eval/metrics.hpp>'
+expect_fail include/proxseg/recognition/recognition.hpp '#include <proxseg/eval/metrics.hpp>'
 expect_fail src/core/selection.cpp '#include <proxseg/eval/scene_eval.hpp>'
 expect_fail include/proxseg/io/output.hpp '#include <proxseg/eval/rec_eval.hpp>'
+expect_fail include/proxseg/io/output.hpp '#include <proxseg/recognition/registration.hpp>'
+expect_fail src/core/pipeline.cpp '#include <proxseg/recognition/recognition.hpp>'
 expect_fail src/core/features.cpp '#include "../io/image_io.hpp"'
 expect_fail src/util/stopwatch.hpp '#include <proxseg/core/frame.hpp>'
 expect_fail src/util/stopwatch.hpp '#include "../core/maxflow.hpp"'

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 #include <proxseg/core/colour.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
-#include <proxseg/core/visibility.hpp>
+#include <proxseg/recognition/visibility.hpp>
 #include <proxseg/eval/object_set.hpp>
 
 #include <algorithm>

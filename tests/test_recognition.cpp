@@ -4,11 +4,11 @@
 #include <unistd.h>
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,5 +1,6 @@
-// Everything proxseg offers, for users who want one include: the method (core), files (io) and
-// measurement (eval). Link proxseg::proxseg (CMake) or `pkg-config --libs proxseg`.
+// Everything proxseg offers, for users who want one include: segmentation (core), files (io),
+// recognition and measurement (eval). Link proxseg::proxseg (CMake) or `pkg-config --libs
+// proxseg`.
 #pragma once
 #include <proxseg/core/clustering.hpp>
 #include <proxseg/core/database.hpp>
@@ -9,22 +10,29 @@
 #include <proxseg/core/mesh.hpp>
 #include <proxseg/core/mrf.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
-#include <proxseg/core/registration.hpp>
+#include <proxseg/core/recognition_types.hpp>
+#include <proxseg/core/registration_types.hpp>
 #include <proxseg/core/render.hpp>
+#include <proxseg/core/rgbd.hpp>
 #include <proxseg/core/selection.hpp>
-#include <proxseg/core/visibility.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/core/voxels.hpp>
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/metrics.hpp>
+#include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/eval/rec_eval.hpp>
-#include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>
+#include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/io/frame_source.hpp>
 #include <proxseg/io/obj_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/lookalike.hpp>
+#include <proxseg/recognition/recognition.hpp>
+#include <proxseg/recognition/recognize_frame.hpp>
+#include <proxseg/recognition/registration.hpp>
+#include <proxseg/recognition/visibility.hpp>

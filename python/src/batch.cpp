@@ -4,6 +4,7 @@
 #include <proxseg/core/memory.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/recognize_frame.hpp>
 
 #include <set>
 

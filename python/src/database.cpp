@@ -1,7 +1,7 @@
 // proxseg.Database: the model database [paper 3.4] on disk, opened once and shared by threads.
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
 
 #include <array>
 #include <cmath>

@@ -1,7 +1,7 @@
 // The parameter checks and the named presets of segment() and recognize() (pipeline.hpp,
-// recognition.hpp); their JSON form is in io/params.cpp.
+// recognition_types.hpp); their JSON form is in io/params.cpp.
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/recognition_types.hpp>
 
 #include <cmath>
 #include <string>

@@ -2,7 +2,8 @@
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>

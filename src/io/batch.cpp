@@ -17,49 +17,11 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "util/stopwatch.hpp"
+
 namespace proxseg {
 namespace fs = std::filesystem;
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-// OUT_DIR/<id>, its folder made.
-std::string output_prefix(const std::string& out_dir, const std::string& id) {
-  const fs::path prefix = fs::path(out_dir) / id;
-  std::error_code ec;
-  fs::create_directories(prefix.parent_path(), ec);
-  if (ec)
-    throw FileError(prefix.parent_path().string() + ": cannot create the output folder (" +
-                    ec.message() + ")");
-  return prefix.string();
-}
-
-// {file relative to out_dir: bytes} of the files just written.
-nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files) {
-  nlohmann::json sizes = nlohmann::json::object();
-  for (const auto& f : files)
-    sizes[fs::path(f).lexically_relative(out_dir).generic_string()] = fs::file_size(f);
-  return sizes;
-}
-
-// A frame's row around its work: inputs, then the work's fields or its error, time and memory.
-template <class Work>
-nlohmann::json frame_row(const FrameSource& frame, Work&& work) {
-  const auto start = Clock::now();
-  nlohmann::json row = {{"frame", frame.id}, {"inputs", frame.files()}};
-  try {
-    work(row);
-  } catch (const InputError& e) {
-    row["error"] = e.what();
-  }
-  row["ms"] = ms_since(start);
-  // Memory after each frame: a batch must not grow (docs/robustness.md).
-  row["rss_mib"] = resident_mib();
-  return row;
-}
 
 const char* kSameKeys[] = {"command", "outputs", "parameters", "database"};
 
@@ -110,6 +72,41 @@ void write_all(int fd, const std::string& bytes, const std::string& path) {
 
 }  // namespace
 
+// OUT_DIR/<id>, its folder made.
+std::string output_prefix(const std::string& out_dir, const std::string& id) {
+  const fs::path prefix = fs::path(out_dir) / id;
+  std::error_code ec;
+  fs::create_directories(prefix.parent_path(), ec);
+  if (ec)
+    throw FileError(prefix.parent_path().string() + ": cannot create the output folder (" +
+                    ec.message() + ")");
+  return prefix.string();
+}
+
+// {file relative to out_dir: bytes} of the files just written.
+nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files) {
+  nlohmann::json sizes = nlohmann::json::object();
+  for (const auto& f : files)
+    sizes[fs::path(f).lexically_relative(out_dir).generic_string()] = fs::file_size(f);
+  return sizes;
+}
+
+// A frame's row around its work: inputs, then the work's fields or its error, time and memory.
+nlohmann::json frame_row(const FrameSource& frame,
+                         const std::function<void(nlohmann::json& row)>& work) {
+  const detail::Stopwatch watch;
+  nlohmann::json row = {{"frame", frame.id}, {"inputs", frame.files()}};
+  try {
+    work(row);
+  } catch (const InputError& e) {
+    row["error"] = e.what();
+  }
+  row["ms"] = watch.ms();
+  // Memory after each frame: a batch must not grow (docs/robustness.md).
+  row["rss_mib"] = resident_mib();
+  return row;
+}
+
 nlohmann::json segment_frame(const FrameSource& source, const SegmentJob& job) {
   return frame_row(source, [&](nlohmann::json& row) {
     const std::string prefix = output_prefix(job.out_dir, source.id);
@@ -122,33 +119,6 @@ nlohmann::json segment_frame(const FrameSource& source, const SegmentJob& job) {
     row["outputs"] = file_sizes(job.out_dir, output_files(prefix, job.outputs, false));
     row["k"] = result.k();
     row["candidates"] = report["selection"]["candidates"];
-  });
-}
-
-nlohmann::json recognize_frame(const FrameSource& source, const RecognizeJob& job,
-                               const Database& db) {
-  return frame_row(source, [&](nlohmann::json& row) {
-    const auto start = Clock::now();
-    const std::string prefix = output_prefix(job.out_dir, source.id);
-    const Frame frame = read_frame(source);
-    auto t = Clock::now();
-    const SegmentResult result = segment(frame, job.segmentation);
-    const double segment_ms = ms_since(t);
-    t = Clock::now();
-    const auto objects = recognize_scene(frame, result.selection, db, job.recognition);
-    const double recognize_ms = ms_since(t);
-    nlohmann::json report =
-        recognition_report(source.cloud.empty() ? source.color : source.cloud, job.db_dir, db,
-                           job.recognition, &job.segmentation, objects);
-    report["times_ms"] = {{"load_database", job.load_ms},
-                          {"segment", segment_ms},
-                          {"recognize", recognize_ms},
-                          {"total", job.load_ms + ms_since(start)}};
-    write_recognition(prefix, frame, objects, db, std::move(report), true, job.outputs);
-    row["outputs"] = file_sizes(job.out_dir, output_files(prefix, job.outputs, true));
-    nlohmann::json names = nlohmann::json::array();
-    for (const auto& o : objects) names.push_back(o.recognition.name);
-    row["objects"] = names;
   });
 }
 

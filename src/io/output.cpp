@@ -1,7 +1,6 @@
 // Segmentation outputs: labelled PCD, a picture of the labels, and the JSON report.
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
 
@@ -709,7 +708,7 @@ nlohmann::json recognition_report(const std::string& input, const std::string& d
   report["database"] = {{"dir", db_dir},
                         {"objects", db.objects().size()},
                         {"views", db.views.size()},
-                        {"descriptor", database_info(db)["descriptor"]}};
+                        {"descriptor", to_json(db.descriptor)}};
   report["proxseg"] = build_info();
   report["parameters"] = {{"recognition", to_json(rec)}};
   if (seg) report["parameters"]["segmentation"] = to_json(*seg);

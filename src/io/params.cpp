@@ -296,6 +296,12 @@ SegmentParams params_from_json(const json& j, SegmentParams base) {
   return from_json_with(j, base, kSegmentFields);
 }
 
+json to_json(const DescriptorParams& d) {
+  return {{"voxel_size", d.voxel_size},
+          {"normal_radius", d.normal_radius},
+          {"fpfh_radii", d.fpfh_radii}};
+}
+
 json to_json(const RecognitionParams& params) {
   return to_json_with(params, kRecognitionFields);
 }

@@ -1,9 +1,9 @@
 // The model database [paper 3.4, Fig. 2]: named objects, each with several partial views,
 // described once so that recognition does no feature work on the models. Reading and writing it
-// (docs/database.md) is in io/database.hpp.
+// (docs/database.md) is in recognition/database_io.hpp.
 #pragma once
 #include <proxseg/core/frame.hpp>
-#include <proxseg/core/registration.hpp>
+#include <proxseg/core/registration_types.hpp>
 
 #include <string>
 #include <vector>

@@ -7,8 +7,8 @@
 // it; docs/metrics.md ("Scenes") defines the measures.
 #pragma once
 #include <proxseg/core/database.hpp>
-#include <proxseg/core/recognition.hpp>
 #include <proxseg/eval/clutter.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>

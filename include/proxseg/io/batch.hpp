@@ -1,14 +1,13 @@
-// Batch work over a dataset (docs/batch.md): one frame's job (segment, or segment and
-// recognise), and the JSON-lines summary that makes a batch resumable, shardable and spreadable
-// over many processes. The CLI's `--batch` and the Dask runner (python/proxseg/dask.py) are both
-// built from these, so that they write the same files.
+// Batch work over a dataset (docs/batch.md): one frame's job (segment; recognise is
+// proxseg/recognition/recognize_frame.hpp), and the JSON-lines summary that makes a batch
+// resumable, shardable and spreadable over many processes. The CLI's `--batch` and the Dask runner
+// (python/proxseg/dask.py) are both built from these, so that they write the same files.
 #pragma once
-#include <proxseg/core/database.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
 #include <proxseg/io/frame_source.hpp>
 #include <proxseg/io/output.hpp>
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -25,27 +24,21 @@ struct SegmentJob {
   int frame_threads = 0;
 };
 
-// What a recognition batch does with each frame: segment it, recognise its candidates against
-// the database, write the outputs.
-struct RecognizeJob {
-  std::string out_dir;
-  OutputSet outputs;
-  SegmentParams segmentation;
-  RecognitionParams recognition;
-  std::string db_dir;  // where the database was loaded from (named in the reports)
-  double load_ms = 0;  // the time it took (the reports' times_ms.load_database)
-};
-
 // One frame of a batch, start to end: reads it, segments it, writes its outputs (all or none).
 // Returns its summary row: {"frame": id, "inputs": [files], "outputs": {file relative to
 // out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. An InputError (a frame that cannot be
 // read or written) does not propagate: the row then has "error" (the message, which names the
 // file) instead of outputs, and nothing of the frame is written.
 nlohmann::json segment_frame(const FrameSource& frame, const SegmentJob& job);
-// The same for recognition: the row has "objects" (names, in report order) instead of "k" and
-// "candidates"; the report equals `proxseg recognize`'s for the frame (its times aside).
-nlohmann::json recognize_frame(const FrameSource& frame, const RecognizeJob& job,
-                               const Database& db);
+// The pieces a frame's job is made of (segment_frame, recognize_frame in
+// proxseg/recognition/recognize_frame.hpp): OUT_DIR/<id> with its folder made (FileError when it
+// cannot be); {file relative to out_dir: bytes} of the files just written; the row around the
+// work: "frame", "inputs", then what work adds or "error" (an InputError's message), "ms" and
+// "rss_mib".
+std::string output_prefix(const std::string& out_dir, const std::string& id);
+nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files);
+nlohmann::json frame_row(const FrameSource& frame,
+                         const std::function<void(nlohmann::json& row)>& work);
 
 // The outputs must stay out of the inputs: InputError when out_dir is inside a source folder (a
 // later batch would take its outputs for frames) or holds an input file.

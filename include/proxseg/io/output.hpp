@@ -1,8 +1,9 @@
 // Segmentation and recognition outputs: PREFIX.pcd, PREFIX.png, PREFIX.json (all written
 // atomically).
 #pragma once
+#include <proxseg/core/database.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/recognition_types.hpp>
 
 #include <nlohmann/json.hpp>
 #include <string>

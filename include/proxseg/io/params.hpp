@@ -1,8 +1,9 @@
 // SegmentParams and RecognitionParams <-> JSON, for config files (--config) and for echoing
-// into every report. The checks (validate) and presets are in pipeline.hpp and recognition.hpp.
+// into every report. The checks (validate) and presets are in pipeline.hpp and
+// recognition_types.hpp.
 #pragma once
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/core/recognition_types.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,8 @@ SegmentParams read_params(const std::string& path, SegmentParams base = {});
 nlohmann::json to_json(const RecognitionParams& params);
 RecognitionParams recognition_params_from_json(const nlohmann::json& j,
                                                RecognitionParams base = {});
+// A model database's descriptor parameters: {"voxel_size", "normal_radius", "fpfh_radii"}.
+nlohmann::json to_json(const DescriptorParams& descriptor);
 // A `proxseg recognize --config` file: {"segmentation": {...}, "recognition": {...}}, either
 // part optional, each laid out like the report's "parameters".
 std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::string& path,

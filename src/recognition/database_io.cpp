@@ -1,7 +1,9 @@
 // The model database on disk: index.json, a PCD per view and a feature cache per view
 // (format in docs/database.md).
 #include <proxseg/io/cloud_io.hpp>
-#include <proxseg/io/database.hpp>
+#include <proxseg/io/params.hpp>
+#include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -137,12 +139,6 @@ std::string slug(const std::string& name) {
   return s;
 }
 
-nlohmann::json descriptor_json(const DescriptorParams& d) {
-  return {{"voxel_size", d.voxel_size},
-          {"normal_radius", d.normal_radius},
-          {"fpfh_radii", d.fpfh_radii}};
-}
-
 template <class T>
 T field(const std::string& where, const nlohmann::json& j, const char* name) {
   if (!j.is_object() || !j.contains(name))
@@ -175,7 +171,7 @@ void write_index(const Database& db) {
   const nlohmann::json index = {{"format", kFormat},
                                 {"version", kVersion},
                                 {"units", "metres"},
-                                {"descriptor", descriptor_json(db.descriptor)},
+                                {"descriptor", to_json(db.descriptor)},
                                 {"objects", objects}};
   write_file_atomic((fs::path(db.dir) / "index.json").string(), index.dump(2) + "\n");
 }
@@ -334,12 +330,8 @@ nlohmann::json database_info(const Database& db) {
     total += points;
     objects.push_back({{"name", name}, {"views", views}, {"points", points}});
   }
-  return {{"dir", db.dir},
-          {"units", "metres"},
-          {"descriptor", descriptor_json(db.descriptor)},
-          {"objects", objects},
-          {"views", db.views.size()},
-          {"points", total}};
+  return {{"dir", db.dir},      {"units", "metres"},        {"descriptor", to_json(db.descriptor)},
+          {"objects", objects}, {"views", db.views.size()}, {"points", total}};
 }
 
 }  // namespace proxseg

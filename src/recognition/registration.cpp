@@ -1,6 +1,6 @@
 // Registration [paper 3.4, Algorithm 2] and the fitness of eq. 4-5.
 #include <proxseg/core/frame.hpp>
-#include <proxseg/core/registration.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include "util/stopwatch.hpp"
 

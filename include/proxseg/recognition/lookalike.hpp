@@ -4,20 +4,12 @@
 // agreement's tolerance. Only the points where the two posed models predict other colours tell
 // them apart; there, each candidate point votes for the model whose colour it agrees with better.
 #pragma once
-#include <proxseg/core/registration.hpp>
+#include <proxseg/core/recognition_types.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include <Eigen/Core>
 
 namespace proxseg {
-
-struct LookalikeVote {
-  int compared = 0;   // candidate points that both posed views explain (within score_distance)
-  int differing = 0;  // of those, the points where the two views' colours disagree
-  int first = 0, second = 0;  // of those, the points that agree clearly better with each view
-  // Mean colour agreement of each view's voters with that view: a candidate of neither colour
-  // may still lean to one of them, but agrees with it poorly.
-  double first_agreement = 0, second_agreement = 0;
-};
 
 // Compares the candidate's colours with two posed views (candidate <- model poses) on the points
 // both explain but colour differently (point_colour_agreement() of their two colours under

@@ -1,5 +1,5 @@
 // Telling look-alikes apart by the colours where they differ [extension].
-#include <proxseg/core/lookalike.hpp>
+#include <proxseg/recognition/lookalike.hpp>
 
 #include <algorithm>
 #include <vector>

@@ -1,5 +1,5 @@
 // Recognition [paper 3.4, Algorithm 3].
-#include <proxseg/core/recognition.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include "util/splitmix.hpp"
 #include "util/stopwatch.hpp"

@@ -1,5 +1,5 @@
 // The free-space check of a posed model against the frame's depths (visibility.hpp).
-#include <proxseg/core/visibility.hpp>
+#include <proxseg/recognition/visibility.hpp>
 
 #include <Eigen/Dense>
 #include <algorithm>

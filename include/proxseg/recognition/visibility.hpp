@@ -4,7 +4,7 @@
 // rest of the frame also says where no surface can be.
 #pragma once
 #include <proxseg/core/frame.hpp>
-#include <proxseg/core/registration.hpp>
+#include <proxseg/recognition/registration.hpp>
 
 #include <Eigen/Core>
 #include <vector>

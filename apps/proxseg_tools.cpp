@@ -1,0 +1,31 @@
+// proxseg-tools: the commands of the proxseg CLI that need recognition or evaluation (cli.hpp,
+// kToolCommands), linked with Open3D. `proxseg` runs it for them with its own arguments
+// (proxseg.cpp), so its messages and help read as proxseg's.
+#include <proxseg/core/memory.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include "cli.hpp"
+
+using namespace cli;
+
+int main(int argc, char** argv) {
+  proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
+  CLI::App app;
+  describe_app(app);
+  DbOptions db;
+  add_db(app, db);
+  RecognizeOptions recognize;
+  add_recognize(app, recognize);
+  EvalOptions eval;
+  add_eval(app, eval);
+  SynthOptions synth;
+  add_synth(app, synth);
+  return run_app(app, argc, argv, [&] {
+    if (app.got_subcommand("synth")) return run_synth(synth);
+    if (app.got_subcommand("eval-seg")) return run_eval(eval);
+    if (app.got_subcommand("db")) return run_db(db);
+    if (app.got_subcommand("recognize")) return run_recognize(recognize);
+    return 2;
+  });
+}
