@@ -34,6 +34,23 @@ TEST(Cli, HelpOnEveryCommand) {
   }
 }
 
+// The commands that need recognition run in proxseg-tools (apps/proxseg.cpp): without it beside
+// the program (or in ../libexec/proxseg), they fail with a message naming what is missing, and
+// segment still works.
+TEST(Cli, ToolCommandsWithoutProxsegToolsFailClearly) {
+  const fs::path alone = kTmp / "alone";
+  fs::remove_all(alone);
+  fs::create_directories(alone);
+  fs::copy_file(kCli, alone / "proxseg");
+  const std::string exe = (alone / "proxseg").string();
+  CliRun r = run_in(kTmp, "recognize --help", exe);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("proxseg-tools for `recognize`"), std::string::npos) << r.err;
+  r = run_in(kTmp, "segment " + learn0() + " -o " + (alone / "scene").string(), exe);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(alone / "scene.pcd"));
+}
+
 TEST(Cli, VersionNamesTheReleaseAndTheCommit) {
   const CliRun r = run("--version");
   EXPECT_EQ(r.code, 0) << r.err;

@@ -233,6 +233,8 @@ TEST(Pipeline, DefaultSkipsThePaperLabelsItDoesNotConsult) {
     SegmentParams consulted;
     consulted.selection.merge_min_agreement = 0.8;
     EXPECT_TRUE(needs_paper_labels(consulted, f));
+    consulted.selection.merge_links = false;
+    EXPECT_FALSE(needs_paper_labels(consulted, f));  // nothing consults them without the links
     EXPECT_FALSE(needs_paper_labels(SegmentParams{}, f));
   }
 }

@@ -489,7 +489,7 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   s.instance.assign(frame.size(), 0);
   s.clusters = count;
   detail::Stopwatch watch;
-  if (params.merge_convex)
+  if (params.merge_links)
     merge_convex_links(grid, surfaces.normals, surfaces.crease, support, point_labels, params,
                        count, comp);
   s.steps_ms.emplace_back("convex_merge", watch.lap());

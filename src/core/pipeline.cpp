@@ -194,7 +194,7 @@ void surface_labels(const GridSurfaces& surfaces, const std::vector<char>& withi
 
 bool needs_paper_labels(const SegmentParams& params, const Frame& frame) {
   return params.paper_labels || !on_image_grid(params, frame) ||
-         params.selection.merge_min_agreement > 0;
+         (params.selection.merge_links && params.selection.merge_min_agreement > 0);
 }
 
 SegmentResult segment(const Frame& frame, const SegmentParams& params) {

@@ -70,6 +70,7 @@ void fields(P& p, F&& f) {
   f("selection", "concavity_tolerance_deg", p.selection.concavity_tolerance_deg);
   f("selection", "split_concave", p.selection.split_concave);
   f("selection", "merge_convex", p.selection.merge_convex);
+  f("selection", "merge_links", p.selection.merge_links);
   f("selection", "merge_max_concave_share", p.selection.merge_max_concave_share);
   f("selection", "merge_min_boundary", p.selection.merge_min_boundary);
   f("selection", "cut_support_plane", p.selection.cut_support_plane);

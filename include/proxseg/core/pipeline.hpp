@@ -23,7 +23,8 @@ struct SegmentParams {
   SelectionParams selection;
   // Whether the paper's labels (stages 2-6: features, Algorithm 1, k-means, MRF, point labels)
   // are computed when nothing needs them. The voxel selection always needs them (the paper
-  // preset, unorganized frames), and the image-grid selection when merge_min_agreement > 0; the
+  // preset, unorganized frames), and the image-grid selection when merge_links and
+  // merge_min_agreement > 0; the
   // default's image-grid selection does not consult them, and on its development sets they
   // changed no answer (docs/method.md, "What each stage buys"), so it skips them unless asked.
   bool paper_labels = false;
