@@ -10,8 +10,9 @@ namespace proxseg {
 // 441k page faults and three times the time (docs/method.md, Speed). Sets glibc's mmap and trim
 // thresholds (mallopt), and reserves the heap's address space in one step with transparent huge
 // pages advised on it (madvise), so that the first frame's fresh memory costs ~40 page faults
-// instead of ~17k. It affects the whole process; call it once at start-up, before other threads
-// allocate. Does nothing with other C libraries.
+// instead of ~17k, and keeps every thread on that heap (one arena: a worker thread's own arena
+// would start empty). It affects the whole process; call it once at start-up, before other
+// threads allocate. Does nothing with other C libraries.
 void keep_freed_memory();
 
 // Resident memory of this process now, and its peak so far, in MiB (Linux: /proc/self/statm and
