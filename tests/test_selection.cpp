@@ -2,6 +2,7 @@
 #include <proxseg/core/render.hpp>
 #include <proxseg/core/selection.hpp>
 
+#include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"
 
 #include <gtest/gtest.h>
@@ -340,4 +341,50 @@ TEST(ParallelFor, EveryIndexOnceAndExceptionsReachTheCaller) {
                                              }),
                std::runtime_error);
   EXPECT_GE(done.load(), 51);  // the other block ran to its end
+}
+
+// The exact k-nearest search of the segmentation path (weak points, sparse voxels, unorganized
+// normals) against brute force: same indices in the same order, ties to the smaller index, for
+// queries inside and far outside the points' box, k above the point count, a flat cloud and
+// duplicated points.
+TEST(NearestPoints, EqualsBruteForceWithTiesToTheSmallerIndex) {
+  auto brute = [](const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& q, int k) {
+    std::vector<std::pair<int, double>> all;
+    for (int i = 0; i < static_cast<int>(pts.size()); ++i)
+      all.emplace_back(i, (pts[i] - q).squaredNorm());
+    std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+      return a.second < b.second || (a.second == b.second && a.first < b.first);
+    });
+    if (static_cast<int>(all.size()) > k) all.resize(k);
+    return all;
+  };
+  std::uint64_t state = 7;
+  auto uniform = [&] {  // a fixed LCG: the same clouds everywhere
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  std::vector<std::vector<Eigen::Vector3d>> clouds(3);
+  for (int i = 0; i < 2000; ++i) clouds[0].emplace_back(uniform(), uniform(), 0.3 * uniform());
+  for (int i = 0; i < 500; ++i) clouds[1].emplace_back(uniform(), uniform(), 0.0);  // flat
+  // A lattice with duplicates: many exact ties.
+  for (int rep = 0; rep < 2; ++rep)
+    for (int x = 0; x < 6; ++x)
+      for (int y = 0; y < 6; ++y)
+        for (int z = 0; z < 3; ++z) clouds[2].emplace_back(0.01 * x, 0.01 * y, 0.01 * z);
+  for (const auto& pts : clouds) {
+    const proxseg::detail::NearestPoints index(pts);
+    std::vector<Eigen::Vector3d> queries = {
+        pts[0], pts[pts.size() / 2], {5, -3, 2}, {-0.2, 0.5, 0}};
+    for (int i = 0; i < 40; ++i) queries.emplace_back(uniform(), uniform(), 0.3 * uniform());
+    for (const auto& q : queries)
+      for (int k : {1, 7, 20, 5000}) {
+        const auto got = index.nearest(q, k), want = brute(pts, q, k);
+        ASSERT_EQ(got.size(), want.size()) << k;
+        for (std::size_t j = 0; j < got.size(); ++j) {
+          EXPECT_EQ(got[j].first, want[j].first) << "k " << k << " rank " << j;
+          EXPECT_DOUBLE_EQ(got[j].second, want[j].second);
+        }
+      }
+  }
+  EXPECT_TRUE(proxseg::detail::NearestPoints({}).nearest({0, 0, 0}, 3).empty());
 }
