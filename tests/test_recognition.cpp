@@ -4,12 +4,13 @@
 #include <unistd.h>
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
+#include <sys/stat.h>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+
 #include <map>
 #include <numeric>
 
@@ -139,6 +141,48 @@ TEST(Database, BrokenDatabasesAreClearErrors) {
   EXPECT_THROW(
       add_view(db, "unknown", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "x"),
       InputError);
+}
+
+// The loader reads only the database's own plain files: a symbolic link planted for a view (to a
+// file outside) or a FIFO in place of the index is refused with the path and why, at once.
+TEST(Database, LinksAndSpecialFilesAreRefused) {
+  const std::string dir = fresh_dir("db_planted");
+  Database db = open_database(dir, DescriptorParams{});
+  add_view(db, "milk", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "milk");
+  ASSERT_NO_THROW(load_database(dir));
+  auto expect_refused = [&](const std::string& file, const std::string& why) {
+    try {
+      load_database(dir);
+      ADD_FAILURE() << "expected an InputError for " << file;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(file), std::string::npos) << msg;
+      EXPECT_NE(msg.find(why), std::string::npos) << msg;
+    }
+  };
+  // A view's PCD replaced by a link to a copy outside the database.
+  const std::string pcd = dir + "/" + db.views[0].file, outside = dir + "-outside.pcd";
+  made_dirs().push_back(outside);
+  fs::copy_file(pcd, outside);
+  fs::remove(pcd);
+  fs::create_symlink(outside, pcd);
+  expect_refused(pcd, "symbolic link");
+  fs::remove(pcd);
+  fs::copy_file(outside, pcd);
+  // The views folder itself a link.
+  const std::string views = dir + "/views", moved = dir + "-views";
+  made_dirs().push_back(moved);
+  fs::rename(views, moved);
+  fs::create_directory_symlink(moved, views);
+  expect_refused(views, "symbolic link");
+  fs::remove(views);
+  fs::rename(moved, views);
+  ASSERT_NO_THROW(load_database(dir));
+  // A FIFO as the index: refused, not waited on.
+  const std::string index = dir + "/index.json";
+  fs::rename(index, index + ".kept");
+  ASSERT_EQ(::mkfifo(index.c_str(), 0600), 0);
+  expect_refused(index, "not a regular file");
 }
 
 TEST(Render, ViewsOfAMeshAreInItsFrameAndSeenFromTheEye) {

@@ -114,6 +114,27 @@ void check_inside(const std::string& where, const std::string& rel) {
     fail(where, "view file \"" + rel + "\" is not a relative path inside the database directory");
 }
 
+// A file the loader reads, DIR/REL, must be the database's own plain file: no component below
+// DIR a symbolic link (it could point anywhere, /proc/self/environ included) and the file itself
+// a regular one (a FIFO would block the open for ever, a device would be read as data). DIR
+// itself may be a link: that is where the user put the database. Missing: "" (the caller says
+// what it expected); otherwise the path.
+std::string plain_file(const std::string& dir, const std::string& rel) {
+  fs::path at(dir);
+  const fs::path r(rel);
+  for (auto it = r.begin(); it != r.end(); ++it) {
+    at /= *it;
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(at, ec);
+    if (ec || st.type() == fs::file_type::not_found) return "";
+    if (st.type() == fs::file_type::symlink)
+      fail(at.string(), "is a symbolic link (a database reads only its own files)");
+    if (std::next(it) == r.end() && st.type() != fs::file_type::regular)
+      fail(at.string(), "is not a regular file (a database reads only its own files)");
+  }
+  return at.string();
+}
+
 // Whether a view's colours say anything: a captured or rendered surface never has one colour at
 // every point, while a model painted with a placeholder (PCL's milk.pcd is (0, 0, 255)
 // throughout) or stored from an XYZ-only cloud (kNoColour) does.
@@ -181,7 +202,8 @@ void write_index(const Database& db) {
 Database load_database(const std::string& dir) {
   const std::string path = (fs::path(dir) / "index.json").string();
   if (!fs::is_directory(dir)) fail_file(dir, "is not a directory (expected a model database)");
-  if (!fs::exists(path)) fail_file(path, "does not exist (expected a model database index)");
+  if (plain_file(dir, "index.json").empty())
+    fail_file(path, "does not exist (expected a model database index)");
   nlohmann::json j;
   {
     std::ifstream in(path);
@@ -223,8 +245,9 @@ Database load_database(const std::string& dir) {
       mv.source =
           v.contains("source") && v["source"].is_string() ? v["source"].get<std::string>() : "";
       const std::string pcd = (fs::path(dir) / mv.file).string();
-      if (!fs::is_regular_file(pcd))
+      if (plain_file(dir, mv.file).empty())
         fail(pcd, "is missing (view of " + name + " listed in " + path + "; expected a PCD file)");
+      plain_file(dir, mv.features);  // a missing cache: read_cache says so
       const Frame f = read_pcd(pcd);
       std::vector<Eigen::Vector3d> points;
       for (std::size_t i = 0; i < f.size(); ++i)
