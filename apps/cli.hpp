@@ -144,7 +144,7 @@ int run_eval(const EvalOptions& o);
 
 // `proxseg db add|render|info`
 struct DbOptions {
-  std::string dir, name, xyz, mesh, units = "m";
+  std::string dir, name, new_name, xyz, mesh, units = "m";
   std::vector<std::string> views;
   bool accumulate = false, json = false;
   int render_views = 8;
@@ -152,7 +152,8 @@ struct DbOptions {
   unsigned seed = 1;
   std::optional<double> voxel_size, normal_radius;
   std::vector<double> fpfh_radii;
-  CLI::App *add = nullptr, *render = nullptr, *info = nullptr;
+  CLI::App *add = nullptr, *render = nullptr, *info = nullptr, *check = nullptr, *upgrade = nullptr,
+           *remove = nullptr, *rename = nullptr;
 };
 void add_db(CLI::App& app, DbOptions& o);
 int run_db(const DbOptions& o);

@@ -1,10 +1,12 @@
-// `proxseg db add|render|info`: build and inspect a model database [paper 3.4].
+// `proxseg db add|render|info|check|remove|rename|upgrade`: build, inspect and keep a model
+// database [paper 3.4] (docs/database.md).
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "cli.hpp"
@@ -48,9 +50,23 @@ void add_db(CLI::App& app, DbOptions& o) {
   o.render->add_option("--noise", o.noise, "Depth noise std at 1 m, metres (0 = none)");
   o.render->add_option("--seed", o.seed, "Seed of the depth noise");
   descriptor(o.render);
-  o.info = db->add_subcommand("info", "List the objects and views of a database");
+  o.info = db->add_subcommand("info", "List the objects and views of a database, with sizes");
   o.info->add_option("db", o.dir, "Database directory")->required();
   o.info->add_flag("--json", o.json, "Print JSON");
+  o.check = db->add_subcommand(
+      "check", "Read every record and verify its checksum; exit 1 when any is damaged");
+  o.check->add_option("db", o.dir, "Database directory")->required();
+  o.check->add_flag("--json", o.json, "Print JSON");
+  o.remove = db->add_subcommand("remove", "Remove an object and all its views");
+  o.remove->add_option("db", o.dir, "Database directory")->required();
+  o.remove->add_option("--name", o.name, "Object name")->required();
+  o.rename = db->add_subcommand("rename", "Rename an object (into another: the views join it)");
+  o.rename->add_option("db", o.dir, "Database directory")->required();
+  o.rename->add_option("--name", o.name, "Object name")->required();
+  o.rename->add_option("--to", o.new_name, "New name")->required();
+  o.upgrade = db->add_subcommand(
+      "upgrade", "Convert a version-1 folder database (index.json, views/) to the database file");
+  o.upgrade->add_option("db", o.dir, "Database directory")->required();
 }
 
 namespace {
@@ -64,10 +80,15 @@ proxseg::Database open_for_adding(const DbOptions& o) {
 }
 
 void report(const proxseg::ModelView& v) {
-  std::cerr << "proxseg: added " << v.object << " view " << v.file << " (" << v.cloud.size()
-            << " points"
-            << (v.cloud.colours.empty() ? ", no colour: recognised by shape alone" : "")
-            << ") from " << v.source << "\n";
+  std::cerr << "proxseg: added " << v.object << " view " << v.name << " (" << v.points << " points"
+            << (v.coloured ? "" : ", no colour: recognised by shape alone") << ") from " << v.source
+            << "\n";
+}
+
+std::string megabytes(std::size_t bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f MB", bytes / 1e6);
+  return buf;
 }
 
 int run_add(const DbOptions& o) {
@@ -151,13 +172,58 @@ int run_info(const DbOptions& o) {
     std::cout << info.dump(2) << "\n";
     return 0;
   }
-  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
-            << " views, voxel " << db.descriptor.voxel_size << " m, FPFH radii";
+  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size() << " views, "
+            << megabytes(info["file_bytes"].get<std::size_t>()) << ", voxel "
+            << db.descriptor.voxel_size << " m, FPFH radii";
   for (double r : db.descriptor.fpfh_radii) std::cout << " " << r;
   std::cout << " m\n";
   for (const auto& obj : info["objects"])
     std::cout << "  " << obj["name"].get<std::string>() << ": " << obj["views"] << " views, "
-              << obj["points"] << " points\n";
+              << obj["points"] << " points, " << megabytes(obj["bytes"].get<std::size_t>()) << "\n";
+  for (const std::string& d : db.damaged) std::cout << "  damaged: " << d << "\n";
+  return 0;
+}
+
+int run_check(const DbOptions& o) {
+  const proxseg::DatabaseCheck check = proxseg::check_database(o.dir);
+  if (o.json) {
+    std::cout << nlohmann::json{{"db", o.dir},
+                                {"views", check.views},
+                                {"whole", check.whole},
+                                {"damaged", check.damaged}}
+                     .dump(2)
+              << "\n";
+  } else {
+    for (const std::string& d : check.damaged) std::cout << "damaged: " << d << "\n";
+    std::cout << o.dir << ": " << check.whole << " of " << check.views << " views whole"
+              << (check.damaged.empty() ? ""
+                                        : ", " + std::to_string(check.damaged.size()) +
+                                              " damaged records or structures")
+              << "\n";
+  }
+  return check.damaged.empty() ? 0 : 1;
+}
+
+int run_remove(const DbOptions& o) {
+  proxseg::Database db = proxseg::load_database(o.dir);
+  const int n = proxseg::remove_object(db, o.name);
+  std::cout << o.dir << ": removed " << o.name << " (" << n << (n == 1 ? " view" : " views")
+            << "); " << db.objects().size() << " objects, " << db.views.size() << " views\n";
+  return 0;
+}
+
+int run_rename(const DbOptions& o) {
+  proxseg::Database db = proxseg::load_database(o.dir);
+  const int n = proxseg::rename_object(db, o.name, o.new_name);
+  std::cout << o.dir << ": renamed " << o.name << " to " << o.new_name << " (" << n
+            << (n == 1 ? " view" : " views") << ")\n";
+  return 0;
+}
+
+int run_upgrade(const DbOptions& o) {
+  const int n = proxseg::upgrade_database(o.dir);
+  std::cout << o.dir << ": upgraded " << n << " views into " << o.dir << "/"
+            << proxseg::kDatabaseFile << " (index.json and views/ are no longer read)\n";
   return 0;
 }
 
@@ -166,6 +232,10 @@ int run_info(const DbOptions& o) {
 int run_db(const DbOptions& o) {
   if (o.add->parsed()) return run_add(o);
   if (o.render->parsed()) return run_render(o);
+  if (o.check->parsed()) return run_check(o);
+  if (o.remove->parsed()) return run_remove(o);
+  if (o.rename->parsed()) return run_rename(o);
+  if (o.upgrade->parsed()) return run_upgrade(o);
   return run_info(o);
 }
 

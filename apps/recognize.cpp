@@ -121,6 +121,17 @@ proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
   return p;
 }
 
+// Views recognition found damaged when it read them: the answers come from the others.
+void warn_damaged(const std::vector<proxseg::SceneObject>& objects) {
+  std::vector<std::string> said;
+  for (const auto& obj : objects)
+    for (const std::string& d : obj.recognition.damaged)
+      if (std::find(said.begin(), said.end(), d) == said.end()) {
+        said.push_back(d);
+        std::cerr << "proxseg: warning: " << d << "; the view is left out (see proxseg db check)\n";
+      }
+}
+
 void print(const std::vector<proxseg::SceneObject>& objects) {
   std::printf("%-4s %-7s %-22s %-6s %-7s %-8s %-22s %s\n", "id", "points", "name", "score",
               "fitness", "coverage", "runner-up", "score");
@@ -187,6 +198,8 @@ int run_recognize(const RecognizeOptions& o) {
   const double load_ms = ms_since(start);
   std::cerr << "proxseg: database " << o.db << ": " << db.objects().size() << " objects, "
             << db.views.size() << " views (" << static_cast<int>(load_ms) << " ms)\n";
+  for (const std::string& d : db.damaged)
+    std::cerr << "proxseg: warning: " << d << "; the view is left out (see proxseg db check)\n";
   if (!o.batch.empty()) {
     const proxseg::RecognizeJob job{o.output, outputs, seg, rec, o.db, load_ms};
     return run_batch(
@@ -215,6 +228,7 @@ int run_recognize(const RecognizeOptions& o) {
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 
+  warn_damaged(objects);
   nlohmann::json report =
       proxseg::recognition_report(object ? o.object : (o.input.empty() ? o.color : o.input), o.db,
                                   db, rec, object ? nullptr : &seg, objects);

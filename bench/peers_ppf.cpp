@@ -73,7 +73,7 @@ PpfPeer::PpfPeer(const Database& db, const PpfParams& params, int threads)
   const auto t0 = Clock::now();
 #pragma omp parallel for schedule(dynamic, 1) num_threads(impl_->threads)
   for (int v = 0; v < n; ++v) {
-    const Cloud& c = db.views[v].cloud;
+    const Cloud& c = db.views[v].cloud();
     impl_->views[v] = to_opencv(c);
     if (!has_volume(c)) continue;
     auto d = std::make_unique<ppf::PPF3DDetector>(params.sampling_step, params.distance_step,

@@ -90,7 +90,7 @@ Open3dPeer::Open3dPeer(const Database& db, const Open3dParams& params, int threa
   open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   impl_->params = params;
   impl_->threads = threads > 0 ? threads : omp_get_max_threads();
-  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud));
+  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud()));
 }
 
 Open3dPeer::~Open3dPeer() = default;
@@ -142,7 +142,7 @@ FgrPeer::FgrPeer(const Database& db, const FgrParams& params, int threads)
   open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   impl_->params = params;
   impl_->threads = threads > 0 ? threads : omp_get_max_threads();
-  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud));
+  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud()));
 }
 
 FgrPeer::~FgrPeer() = default;
@@ -196,8 +196,8 @@ PclPeer::PclPeer(const Database& db, const PclParams& params, int threads)
   impl_->params = params;
   impl_->threads = threads > 0 ? threads : omp_get_max_threads();
   for (const ModelView& v : db.views) {
-    impl_->points.push_back(to_pcl_points(v.cloud));
-    impl_->features.push_back(to_pcl_features(v.cloud));
+    impl_->points.push_back(to_pcl_points(v.cloud()));
+    impl_->features.push_back(to_pcl_features(v.cloud()));
   }
 }
 

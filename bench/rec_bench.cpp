@@ -12,11 +12,11 @@
 #include "bench_util.hpp"
 
 #include <proxseg/core/memory.hpp>
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <omp.h>
 #include <unistd.h>
@@ -215,7 +215,7 @@ std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
       if (!aligned[v].found) continue;  // no hypothesis, no pose to score: 0
       const auto ts = Clock::now();
       const proxseg::Alignment scored =
-          proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
+          proxseg::score_pose(c, db.views[v].cloud(), aligned[v].pose, rp.registration);
       score[v] = proxseg::score_of(scored, rp.score);
       rank[v] = proxseg::rank_of(scored, rp.score);
       score_ms[v] = ms_since(ts);

@@ -12,12 +12,12 @@
 //                    [--peers all|none] [--json]
 #include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <omp.h>
 
@@ -196,7 +196,7 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int v = 0; v < n; ++v)
       if (aligned[v].found) {  // no hypothesis, no pose to score: 0
-        scored[v] = proxseg::score_pose(c, db.views[v].cloud, aligned[v].pose, rp.registration);
+        scored[v] = proxseg::score_pose(c, db.views[v].cloud(), aligned[v].pose, rp.registration);
         score[v] = proxseg::score_of(scored[v], rp.score);
         rank[v] = proxseg::rank_of(scored[v], rp.score);
       }
@@ -216,8 +216,8 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
           runner_up = v;
       if (runner_up >= 0) {
         const int winner =
-            proxseg::tell_lookalikes(c, db.views[best].cloud, scored[best],
-                                     db.views[runner_up].cloud, scored[runner_up], rp);
+            proxseg::tell_lookalikes(c, db.views[best].cloud(), scored[best],
+                                     db.views[runner_up].cloud(), scored[runner_up], rp);
         if (winner == 2) std::swap(best, runner_up);
         decided = winner != 0;
       }

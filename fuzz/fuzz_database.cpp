@@ -1,26 +1,29 @@
-// libFuzzer harness: the model database loader. One input packs (fuzz_util.hpp kPart) the
-// index.json, one view's PCD and its feature cache, written where the seed's index names them
-// (views/obj-000.pcd, views/obj-000.fpfh); a mutated index may name other files.
+// libFuzzer harness: the model database file. The input is DB/database.sqlite; opening it, and
+// reading every view's parts and body, must answer or throw InputError, whatever the bytes (SQLite
+// reports a damaged structure; the records' checksums and sizes catch the rest).
 #include <proxseg/core/database.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
 #include "fuzz_util.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const auto part = fuzz::split(data, size, 3);
   std::error_code ec;
   std::filesystem::remove_all(fuzz::scratch() / "db", ec);
-  fuzz::write("db/index.json", part[0]);
-  fuzz::write("db/views/obj-000.pcd", part[1]);
-  fuzz::write("db/views/obj-000.fpfh", part[2]);
+  fuzz::write("db/database.sqlite", std::string(reinterpret_cast<const char*>(data), size));
+  const std::string dir = (fuzz::scratch() / "db").string();
   fuzz::answers("load_database", [&] {
-    const proxseg::Database db = proxseg::load_database((fuzz::scratch() / "db").string());
+    const proxseg::Database db = proxseg::load_database(dir);
     for (const auto& v : db.views) {
-      const auto& c = v.cloud;
-      if (c.normals.size() != c.size() || static_cast<std::size_t>(c.features.cols()) != c.size())
-        std::abort();
+      fuzz::answers("part_signatures", [&] { v.part_signatures(); });
+      fuzz::answers("cloud", [&] {
+        const auto& c = v.cloud();
+        if (c.size() != v.points || c.normals.size() != c.size() ||
+            static_cast<std::size_t>(c.features.cols()) != c.size())
+          std::abort();
+      });
     }
     proxseg::database_info(db);
   });
+  fuzz::answers("check_database", [&] { proxseg::check_database(dir); });
   return 0;
 }

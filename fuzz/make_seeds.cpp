@@ -4,7 +4,9 @@
 #include <proxseg/core/database.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
+
 #include <proxseg/io/params.hpp>
+#include "folder_database_v1.hpp"
 
 #include <cstring>
 #include <filesystem>
@@ -233,6 +235,8 @@ void config_seeds(const fs::path& data, const fs::path& out) {
       R"({"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5, "depth_scale": 1000})");
 }
 
+// A one-view database (the ape at 12 mm voxels): the database file, and the same view as a
+// version-1 folder (the upgrade's input).
 void database_seeds(const fs::path& data, const fs::path& out) {
   const fs::path dir =
       fs::temp_directory_path() / ("proxseg-seed-db-" + std::to_string(::getpid()));
@@ -240,7 +244,6 @@ void database_seeds(const fs::path& data, const fs::path& out) {
   proxseg::DescriptorParams d;
   d.voxel_size = 0.012;
   d.fpfh_radii = {0.03};
-  proxseg::Database db = proxseg::open_database(dir.string(), d);
   const proxseg::Mesh ape =
       proxseg::read_mesh((data / "lmo/models/obj_000001.ply").string(), 0.001);
   proxseg::Frame points;
@@ -250,13 +253,26 @@ void database_seeds(const fs::path& data, const fs::path& out) {
   }
   points.width = static_cast<int>(points.xyz.size());
   points.height = 1;
-  proxseg::add_view(db, "obj", points, Eigen::Vector3d(0, 0, 0.5), "seed");
-  const std::string index = slurp(dir / "index.json");
-  const std::string view = slurp(dir / "views/obj-000.pcd"),
-                    cache = slurp(dir / "views/obj-000.fpfh");
-  put(out, "db", pack({index, view, cache}));
-  put(out, "db-truncated-cache", pack({index, view, cache.substr(0, cache.size() / 2)}));
-  put(out, "db-no-view", pack({index, "", cache}));
+  std::vector<proxseg::ModelView> views;
+  {
+    proxseg::Database db = proxseg::open_database((dir / "file").string(), d);
+    proxseg::add_view(db, "obj", points, Eigen::Vector3d(0, 0, 0.5), "seed");
+    views = db.views;
+  }
+  const std::string file = slurp(dir / "file" / proxseg::kDatabaseFile);
+  put(out / "database", "db.sqlite", file);
+  put(out / "database", "db-truncated.sqlite", file.substr(0, file.size() / 2));
+  std::string flipped = file;
+  flipped[flipped.size() - 100] ^= 0x20;
+  put(out / "database", "db-flipped.sqlite", flipped);
+  proxseg::test::write_folder_database((dir / "v1").string(), views, d);
+  const std::string index = slurp(dir / "v1/index.json");
+  const std::string view = slurp(dir / "v1/views/obj-000.pcd"),
+                    cache = slurp(dir / "v1/views/obj-000.fpfh");
+  put(out / "folder_database", "db", pack({index, view, cache}));
+  put(out / "folder_database", "db-truncated-cache",
+      pack({index, view, cache.substr(0, cache.size() / 2)}));
+  put(out / "folder_database", "db-no-view", pack({index, "", cache}));
   fs::remove_all(dir);
 }
 
@@ -273,7 +289,7 @@ int main(int argc, char** argv) {
     ply_seeds(data, out / "ply");
     rgbd_seeds(data, out / "rgbd");
     config_seeds(data, out / "config");
-    database_seeds(data, out / "database");
+    database_seeds(data, out);
   } catch (const std::exception& e) {
     std::cerr << "make_seeds: " << e.what() << "\n";
     return 1;

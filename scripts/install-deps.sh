@@ -13,7 +13,8 @@ set -euo pipefail
 # when present and installed here so that they are. python3-distributed and python3-dask run
 # batches on a Dask cluster (python3 -m proxseg.dask, docs/batch.md).
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
-  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev dpkg-dev
+  libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev libsqlite3-dev
+  dpkg-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-open3d python3-matplotlib
   python3-tqdm python3-distributed python3-dask)
 if [ "${1:-}" = "--bench" ]; then

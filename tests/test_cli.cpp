@@ -365,7 +365,8 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
   const auto info = nlohmann::json::parse(r.out);
   EXPECT_EQ(info["views"], 9);
   EXPECT_EQ(info["objects"].size(), 3u);
-  EXPECT_TRUE(fs::exists(db / "index.json"));
+  EXPECT_TRUE(fs::exists(db / "database.sqlite"));
+  EXPECT_GT(info["file_bytes"].get<std::size_t>(), 100000u);
 
   const fs::path o = kTmp / "milk_rec";
   r = run("recognize " + kData + "/pcl/milk_cartoon_all_small_clorox.pcd --db " + db.string() +
@@ -412,14 +413,28 @@ TEST(Cli, DatabaseAndRecognizeTheMilkScene) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("milk"), std::string::npos) << r.out;
 
-  // Bad input: a missing view file and a config with an unknown key.
-  fs::copy(db, kTmp / "milkdb_broken",
-           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
-  fs::remove(kTmp / "milkdb_broken" / "views" / "milk-000.pcd");
+  // The database kept: checked, an object renamed and another removed.
+  r = run("db check " + db.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("9 of 9 views whole"), std::string::npos) << r.out;
+  r = run("db rename " + db.string() + " --name can --to tin");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("db remove " + db.string() + " --name ape");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("removed ape (4 views); 2 objects, 5 views"), std::string::npos) << r.out;
+  r = run("db info " + db.string());
+  EXPECT_NE(r.out.find("tin: 4 views"), std::string::npos) << r.out;
+  expect_input_error(run("db remove " + db.string() + " --name ape"), "no object named \"ape\"",
+                     kTmp / "none");
+
+  // Bad input: a truncated database file and a config with an unknown key.
+  fs::remove_all(kTmp / "milkdb_broken");
+  fs::copy(db, kTmp / "milkdb_broken", fs::copy_options::recursive);
+  fs::resize_file(kTmp / "milkdb_broken" / "database.sqlite", 3000);
   const fs::path bad = kTmp / "milk_bad";
   expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " +
                          (kTmp / "milkdb_broken").string() + " -o " + bad.string()),
-                     "milk-000.pcd", bad);
+                     "database.sqlite", bad);
   std::ofstream(kTmp / "rec_unknown.json") << R"({"recognition": {"ransac_iters": 5}})";
   expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " + db.string() +
                          " --config " + (kTmp / "rec_unknown.json").string()),

@@ -4,10 +4,10 @@
 #include <gtest/gtest.h>
 #include <proxseg/core/colour.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
-#include <proxseg/recognition/visibility.hpp>
 #include <proxseg/eval/object_set.hpp>
+#include <proxseg/recognition/recognition.hpp>
+#include <proxseg/recognition/visibility.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -128,13 +128,13 @@ TEST(ObjectSet, DatabaseViewsAreCapturedUnlikeTheMesh) {
   EXPECT_EQ(db.views[0].object, c.entries[0].name);
   EXPECT_EQ(db.views[5].object, c.entries[1].name);
   for (const ModelView& v : db.views) {
-    EXPECT_GT(v.cloud.size(), 100u);
-    EXPECT_EQ(v.cloud.colours.size(), v.cloud.size());
+    EXPECT_GT(v.cloud().size(), 100u);
+    EXPECT_EQ(v.cloud().colours.size(), v.cloud().size());
   }
   // Seeded: the same capture twice is the same database.
   const Database again = captured_database(c, cp, DescriptorParams{});
-  EXPECT_EQ(again.views[4].cloud.points, db.views[4].cloud.points);
-  EXPECT_EQ(again.views[4].cloud.colours, db.views[4].cloud.colours);
+  EXPECT_EQ(again.views[4].cloud().points, db.views[4].cloud().points);
+  EXPECT_EQ(again.views[4].cloud().colours, db.views[4].cloud().colours);
 }
 
 TEST(ObjectSet, LatheShapesAreClosedAndCupsOpen) {

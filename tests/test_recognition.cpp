@@ -8,6 +8,7 @@
 #include <proxseg/eval/evaluation.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include <sys/stat.h>
@@ -77,112 +78,6 @@ void add_linemod(Database& db, int views) {
     p.views = views;
     for (const auto& v : render_views(mesh, p)) add_view(db, name, v.points, v.eye, "render");
   }
-}
-
-TEST(Database, ViewsRoundTripThroughTheCache) {
-  const std::string dir = fresh_dir("db_roundtrip");
-  Database db = open_database(dir, DescriptorParams{});
-  const Frame milk = read_pcd(kData + "/pcl/milk.pcd");
-  const ModelView& added = add_view(db, "milk", milk, Eigen::Vector3d::Zero(), "milk.pcd");
-  const Cloud before = added.cloud;
-  const Database loaded = load_database(dir);
-  ASSERT_EQ(loaded.views.size(), 1u);
-  EXPECT_EQ(loaded.objects(), std::vector<std::string>{"milk"});
-  const Cloud& after = loaded.views[0].cloud;
-  ASSERT_EQ(after.size(), before.size());
-  EXPECT_GT(after.size(), 1000u);  // 12,575 points filtered at 5 mm
-  for (std::size_t i = 0; i < after.size(); ++i) {
-    ASSERT_LT((after.points[i] - before.points[i]).norm(), 1e-6);
-    ASSERT_LT((after.normals[i] - before.normals[i]).norm(), 1e-6);
-  }
-  EXPECT_LT((after.features - before.features).cwiseAbs().maxCoeff(), 1e-4);
-  EXPECT_EQ(after.viewpoint, before.viewpoint);
-  // milk.pcd is painted (0, 0, 255) throughout: a placeholder, not a colour.
-  EXPECT_TRUE(after.colours.empty());
-  // A rendered view keeps its colours; a view from an XYZ-only cloud has none once loaded (not
-  // the grey its PCD stores).
-  ViewSphereParams vp;
-  vp.views = 2;
-  const auto duck =
-      render_views(read_mesh(kData + "/lmo/models/obj_000009.ply", 0.001), vp).front();
-  const Cloud duck_before = add_view(db, "duck", duck.points, duck.eye, "duck").cloud;
-  Frame xyz_only;
-  xyz_only.xyz = duck.points.xyz;
-  xyz_only.width = duck.points.width;
-  xyz_only.height = duck.points.height;
-  add_view(db, "duck shape", xyz_only, duck.eye, "duck without colour");
-  const Database again = load_database(dir);
-  ASSERT_EQ(again.views.size(), 3u);
-  ASSERT_EQ(again.views[1].cloud.colours.size(), again.views[1].cloud.size());
-  EXPECT_EQ(again.views[1].cloud.colours, duck_before.colours);
-  EXPECT_EQ(again.views[1].cloud.signature.colour, duck_before.signature.colour);
-  EXPECT_TRUE(again.views[2].cloud.colours.empty());
-  EXPECT_EQ(again.views[2].cloud.signature.colour.size(), 0);
-}
-
-TEST(Database, BrokenDatabasesAreClearErrors) {
-  const std::string dir = fresh_dir("db_broken");
-  Database db = open_database(dir, DescriptorParams{});
-  add_view(db, "milk", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "milk");
-  // A truncated cache.
-  const std::string cache = dir + "/" + db.views[0].features;
-  fs::resize_file(cache, fs::file_size(cache) - 4);
-  try {
-    load_database(dir);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("truncated or corrupt"), std::string::npos) << e.what();
-  }
-  // A missing view file.
-  fs::remove(dir + "/" + db.views[0].file);
-  EXPECT_THROW(load_database(dir), InputError);
-  // No index at all.
-  EXPECT_THROW(load_database(fresh_dir("db_empty")), InputError);
-  EXPECT_THROW(
-      add_view(db, "unknown", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "x"),
-      InputError);
-}
-
-// The loader reads only the database's own plain files: a symbolic link planted for a view (to a
-// file outside) or a FIFO in place of the index is refused with the path and why, at once.
-TEST(Database, LinksAndSpecialFilesAreRefused) {
-  const std::string dir = fresh_dir("db_planted");
-  Database db = open_database(dir, DescriptorParams{});
-  add_view(db, "milk", read_pcd(kData + "/pcl/milk.pcd"), Eigen::Vector3d::Zero(), "milk");
-  ASSERT_NO_THROW(load_database(dir));
-  auto expect_refused = [&](const std::string& file, const std::string& why) {
-    try {
-      load_database(dir);
-      ADD_FAILURE() << "expected an InputError for " << file;
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(file), std::string::npos) << msg;
-      EXPECT_NE(msg.find(why), std::string::npos) << msg;
-    }
-  };
-  // A view's PCD replaced by a link to a copy outside the database.
-  const std::string pcd = dir + "/" + db.views[0].file, outside = dir + "-outside.pcd";
-  made_dirs().push_back(outside);
-  fs::copy_file(pcd, outside);
-  fs::remove(pcd);
-  fs::create_symlink(outside, pcd);
-  expect_refused(pcd, "symbolic link");
-  fs::remove(pcd);
-  fs::copy_file(outside, pcd);
-  // The views folder itself a link.
-  const std::string views = dir + "/views", moved = dir + "-views";
-  made_dirs().push_back(moved);
-  fs::rename(views, moved);
-  fs::create_directory_symlink(moved, views);
-  expect_refused(views, "symbolic link");
-  fs::remove(views);
-  fs::rename(moved, views);
-  ASSERT_NO_THROW(load_database(dir));
-  // A FIFO as the index: refused, not waited on.
-  const std::string index = dir + "/index.json";
-  fs::rename(index, index + ".kept");
-  ASSERT_EQ(::mkfifo(index.c_str(), 0600), 0);
-  expect_refused(index, "not a regular file");
 }
 
 TEST(Render, ViewsOfAMeshAreInItsFrameAndSeenFromTheEye) {
@@ -468,10 +363,8 @@ TEST(Recognition, ColourTellsApartTwoObjectsOfOneShape) {
     for (const auto& v : render_views(*mesh, vp)) {
       std::vector<Eigen::Vector3d> pts;
       for (const auto& q : v.points.xyz) pts.push_back(q.cast<double>());
-      ModelView m;
-      m.object = name;
-      m.cloud = describe(pts, v.eye, db.descriptor, &v.points.rgb);
-      db.views.push_back(std::move(m));
+      db.views.push_back(
+          make_model_view(name, describe(pts, v.eye, db.descriptor, &v.points.rgb), "render"));
     }
   // Chromaticity alone: a quarter of the brightness (a darker paint, in deep shadow) still agrees.
   RecognitionParams colour, shape;
@@ -556,13 +449,16 @@ TEST(Recognition, ShortlistKeepsTheNearestViewsOfTheAskedObjects) {
   const std::vector<int> near = shortlist_views(c, db, 6);
   ASSERT_EQ(near.size(), 6u);
   EXPECT_EQ(db.views[near[0]].object, "driller");
-  for (std::size_t k = 1; k < near.size(); ++k)
-    EXPECT_LE(view_distance(c.signature, db.views[near[k - 1]].cloud.signature),
-              view_distance(c.signature, db.views[near[k]].cloud.signature));
+  const auto distance = [&](int v) {  // view_distance() with the view's stored parts
+    Signature s = db.views[v].signature;
+    s.parts = db.views[v].part_signatures();
+    return view_distance(c.signature, s);
+  };
+  for (std::size_t k = 1; k < near.size(); ++k) EXPECT_LE(distance(near[k - 1]), distance(near[k]));
   const std::vector<int> whole = shortlist_views(c, db, 6, {}, false);
   for (std::size_t k = 1; k < whole.size(); ++k)
-    EXPECT_LE(signature_distance(c.signature, db.views[whole[k - 1]].cloud.signature),
-              signature_distance(c.signature, db.views[whole[k]].cloud.signature));
+    EXPECT_LE(signature_distance(c.signature, db.views[whole[k - 1]].signature),
+              signature_distance(c.signature, db.views[whole[k]].signature));
   const std::vector<int> only = shortlist_views(c, db, 0, {"duck", "cat"});
   ASSERT_EQ(only.size(), 8u);
   for (int v : only) EXPECT_TRUE(db.views[v].object == "duck" || db.views[v].object == "cat");

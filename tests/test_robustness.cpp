@@ -248,26 +248,26 @@ TEST(Robustness, SixteenVersusEightBitImages) {
   EXPECT_NE(r.err.find("8-bit"), std::string::npos) << r.err;
 }
 
-TEST(Robustness, DatabaseWithAMissingViewFile) {
-  const fs::path db = milk_database("db-missing");
+// A database file that is missing, cut short, not a database, or a version-1 folder: exit 1, the
+// file named, nothing written. (Damaged records inside a whole file: tests/test_database.cpp.)
+TEST(Robustness, DatabaseFileMissingTruncatedOrOld) {
   const fs::path o = kTmp / "db-missing-out";
-  fs::remove(db / "views" / "milk-000.pcd");
-  expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " + db.string() +
-                         " -o " + o.string()),
-                     "milk-000.pcd", o);
-  // The same for a missing feature cache, and an index naming a file outside the database.
-  const fs::path db2 = milk_database("db-missing-cache");
-  fs::remove(db2 / "views" / "milk-000.fpfh");
-  expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " + db2.string() +
-                         " -o " + o.string()),
-                     "milk-000.fpfh", o);
-  const fs::path db3 = milk_database("db-outside");
-  std::string index = slurp(db3 / "index.json");
-  index.replace(index.find("views/milk-000.pcd"), 18, "/dev/zero");
-  std::ofstream(db3 / "index.json") << index;
-  expect_input_error(run("recognize --object " + kData + "/pcl/milk.pcd --db " + db3.string() +
-                         " -o " + o.string()),
-                     "/dev/zero", o);
+  const std::string object = "recognize --object " + kData + "/pcl/milk.pcd --db ";
+  const fs::path db = milk_database("db-missing");
+  fs::remove(db / "database.sqlite");
+  expect_input_error(run(object + db.string() + " -o " + o.string()), "database.sqlite", o);
+  const fs::path db2 = milk_database("db-truncated");
+  fs::resize_file(db2 / "database.sqlite", fs::file_size(db2 / "database.sqlite") / 2);
+  expect_input_error(run(object + db2.string() + " -o " + o.string()), "database.sqlite", o);
+  const fs::path db3 = milk_database("db-junk");
+  std::ofstream(db3 / "database.sqlite", std::ios::trunc)
+      << "SQLite format 3" << std::string(9000, 'x');
+  expect_input_error(run(object + db3.string() + " -o " + o.string()), "database.sqlite", o);
+  const fs::path db4 = kTmp / "db-v1";
+  fs::remove_all(db4);
+  fs::create_directories(db4);
+  std::ofstream(db4 / "index.json") << R"({"format": "proxseg-model-database", "version": 1})";
+  expect_input_error(run(object + db4.string() + " -o " + o.string()), "proxseg db upgrade", o);
 }
 
 TEST(Robustness, ConfigWithUnknownKeysOrWrongTypes) {

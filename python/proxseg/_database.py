@@ -14,16 +14,19 @@ from ._frame import PathLike, as_frame
 
 class Database:
     """A model database: named objects, each with partial views described once (normals, FPFH),
-    in a directory (index.json, one PCD and one feature cache per view). The same directory
+    in a directory holding one file, ``database.sqlite`` (docs/database.md). The same directory
     works with ``proxseg db`` and ``proxseg recognize --db``.
 
-    ``Database(path)`` loads an existing database (OSError when it is missing).
+    ``Database(path)`` opens an existing database (OSError when it is missing; ValueError for a
+    version-1 folder database, which ``proxseg db upgrade`` converts). Opening reads only the
+    views' summaries; a view's points and features are read when recognition first needs them.
     ``Database(path, create=True)`` opens it, or starts a new empty one there (nothing is written
     until a view is added); ``voxel_size``, ``normal_radius`` (metres) and ``fpfh_radii``
     (metres) set a new database's descriptor.
 
-    Recognitions may read one Database from several threads at once; adding views waits for
-    them (and they for it).
+    Recognitions may read one Database from several threads at once and never wait for an add:
+    each works on the database as it was when it started. Adds (from any thread or process)
+    take turns and each lands whole.
     """
 
     def __init__(self, path: PathLike, *, create: bool = False,
@@ -51,27 +54,47 @@ class Database:
     def __repr__(self) -> str:
         return f"<proxseg.Database {self.path!r}: {len(self.objects)} objects, {len(self)} views>"
 
+    @property
+    def damaged(self) -> List[str]:
+        """Views left out when the database was opened, their records damaged (where: what)."""
+        return self._db.damaged
+
     def info(self) -> Dict[str, Any]:
-        """What ``proxseg db info --json`` prints: the descriptor and per object its views and
-        points."""
+        """What ``proxseg db info --json`` prints: the descriptor, per object its views, points
+        and bytes, and the file's size."""
         return self._db.info()
 
+    def check(self) -> Dict[str, Any]:
+        """What ``proxseg db check --json`` finds: ``views``, ``whole`` (views whose records are
+        all whole) and ``damaged`` (one line per damaged record: where and what)."""
+        return self._db.check()
+
+    def remove(self, object: str) -> int:
+        """Removes every view of ``object`` from the database file; the number removed
+        (ValueError when there is no such object)."""
+        return self._db.remove(object)
+
+    def rename(self, object: str, to: str) -> int:
+        """Renames ``object`` to ``to`` (an existing name: the views join it); the number of views
+        renamed."""
+        return self._db.rename(object, to)
+
     def view(self, index: int) -> Dict[str, Any]:
-        """View ``index``: object, file, source, points, coloured, and ``xyz`` (n, 3) float32, the
-        voxel-filtered points in the model frame (metres)."""
-        return self._db.view(index)
+        """View ``index``: object, name, source, points, coloured, and ``xyz`` (n, 3) float32, the
+        voxel-filtered points in the model frame (metres). IndexError outside [0, len)."""
+        return self._db.view(int(index))
 
     def add_view(self, object: str, points: Any, *, rgb: Optional[np.ndarray] = None,
                  viewpoint: Optional[Sequence[float]] = (0.0, 0.0, 0.0),
                  source: Optional[str] = None) -> Dict[str, Any]:
-        """Adds one view of ``object`` and writes it (view PCD, feature cache, index; atomically).
+        """Adds one view of ``object`` and writes it to the database file (one transaction).
 
         points: a Frame, a path, a numpy array (N, 3) metres with ``rgb`` (uint8) beside it, or an
             Open3D PointCloud; its valid points in the model frame.
         viewpoint: where the sensor was in that frame (metres; the origin for a captured view),
             or None for a full model seen from everywhere (normals oriented outwards).
         source: what the view was made from, kept in the index (default: the path, or "python").
-        Returns the view's entry: object, file, source, points, coloured.
+        Returns the view's entry: object, name, source, points, coloured.
         """
         frame = as_frame(points, rgb)
         if source is None:

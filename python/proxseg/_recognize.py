@@ -28,7 +28,7 @@ class RecognizedObject:
     colour: the colour agreement of the best view's explained points (1 without colour).
     pose: (4, 4) rigid transform, scene (camera) frame <- model frame, metres; None when no view
         was aligned.
-    view: the best view's file in the database. runner_up: (name, score) of the best view of
+    view: the best view's name in the database. runner_up: (name, score) of the best view of
         another object, or None.
     points: frame point indices it holds (flattened row-major when organized), ascending.
     centroid: (3,) metres. instances: the SegmentResult candidates it holds points of.

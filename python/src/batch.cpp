@@ -105,8 +105,7 @@ void bind_batch(py::module_& m) {
         nlohmann::json row;
         {
           py::gil_scoped_release release;
-          std::shared_lock lock(db.mutex);
-          row = recognize_frame(source, job, db.db);
+          row = recognize_frame(source, job, *db.snapshot());
         }
         return json_to_python(row);
       },

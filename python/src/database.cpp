@@ -23,22 +23,21 @@ DescriptorParams descriptor_params(double voxel_size, double normal_radius,
   return d;
 }
 
-// What Python is told about a view: copied out under the database's lock, turned into a dict
-// after it is released (a thread never waits for the GIL while it holds the lock).
+// What Python is told about a view: copied out of the snapshot, turned into a dict with the GIL.
 struct ViewInfo {
-  std::string object, file, source;
+  std::string object, name, source;
   std::size_t points = 0;
   bool coloured = false;
 };
 
 ViewInfo view_info(const ModelView& v) {
-  return {v.object, v.file, v.source, v.cloud.size(), !v.cloud.colours.empty()};
+  return {v.object, v.name, v.source, v.points, v.coloured};
 }
 
 py::dict view_dict(const ViewInfo& v) {
   py::dict out;
   out["object"] = v.object;
-  out["file"] = v.file;
+  out["name"] = v.name;
   out["source"] = v.source;
   out["points"] = v.points;
   out["coloured"] = v.coloured;
@@ -51,51 +50,72 @@ void bind_database(py::module_& m) {
   py::class_<SharedDatabase>(m, "_Database")
       .def(py::init([](const std::string& path, bool create, double voxel_size,
                        double normal_radius, const std::vector<double>& fpfh_radii) {
-             auto db = std::make_unique<SharedDatabase>();
              py::gil_scoped_release release;
              if (create) {
                const bool given =
                    !std::isnan(voxel_size) || !std::isnan(normal_radius) || !fpfh_radii.empty();
-               db->db = open_database(
-                   path, descriptor_params(voxel_size, normal_radius, fpfh_radii), given);
-             } else {
-               db->db = load_database(path);
+               return std::make_unique<SharedDatabase>(open_database(
+                   path, descriptor_params(voxel_size, normal_radius, fpfh_radii), given));
              }
-             return db;
+             return std::make_unique<SharedDatabase>(load_database(path));
            }),
            py::arg("path"), py::arg("create"), py::arg("voxel_size"), py::arg("normal_radius"),
            py::arg("fpfh_radii"))
-      .def_property_readonly("path", [](const SharedDatabase& d) { return d.db.dir; })
+      .def_property_readonly("path", [](const SharedDatabase& d) { return d.snapshot()->dir; })
       .def_property_readonly("objects",
-                             [](const SharedDatabase& d) {
-                               std::shared_lock lock(d.mutex);
-                               return d.db.objects();
-                             })
-      .def("__len__",
-           [](const SharedDatabase& d) {
-             std::shared_lock lock(d.mutex);
-             return d.db.views.size();
-           })
+                             [](const SharedDatabase& d) { return d.snapshot()->objects(); })
+      .def_property_readonly("damaged",
+                             [](const SharedDatabase& d) { return d.snapshot()->damaged; })
+      .def("__len__", [](const SharedDatabase& d) { return d.snapshot()->views.size(); })
       .def("view",
-           [](const SharedDatabase& d, std::size_t i) {
-             std::shared_lock lock(d.mutex);
-             if (i >= d.db.views.size())
+           [](const SharedDatabase& d, std::int64_t i) {
+             const auto db = d.snapshot();
+             if (i < 0 || i >= static_cast<std::int64_t>(db->views.size()))
                throw py::index_error("view " + std::to_string(i) + ": the database has " +
-                                     std::to_string(d.db.views.size()) + " views");
-             py::dict out = view_dict(view_info(d.db.views[i]));
-             const Cloud& c = d.db.views[i].cloud;
+                                     std::to_string(db->views.size()) + " views");
+             const ModelView& v = db->views[i];
              std::vector<float> xyz;
-             xyz.reserve(c.points.size() * 3);
-             for (const auto& p : c.points)
-               for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
-             out["xyz"] = to_numpy(std::move(xyz), {static_cast<py::ssize_t>(c.points.size()), 3});
+             {
+               py::gil_scoped_release release;  // a stored view's body is read here
+               const Cloud& c = v.cloud();
+               xyz.reserve(c.points.size() * 3);
+               for (const auto& p : c.points)
+                 for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
+             }
+             py::dict out = view_dict(view_info(v));
+             const auto n = static_cast<py::ssize_t>(xyz.size() / 3);
+             out["xyz"] = to_numpy(std::move(xyz), {n, 3});
              return out;
            })
       .def("info",
+           [](const SharedDatabase& d) { return json_to_python(database_info(*d.snapshot())); })
+      .def("check",
            [](const SharedDatabase& d) {
-             std::shared_lock lock(d.mutex);
-             return json_to_python(database_info(d.db));
+             DatabaseCheck c;
+             {
+               py::gil_scoped_release release;
+               c = check_database(d.snapshot()->dir);
+             }
+             py::dict out;
+             out["views"] = c.views;
+             out["whole"] = c.whole;
+             out["damaged"] = c.damaged;
+             return out;
            })
+      .def(
+          "remove",
+          [](SharedDatabase& d, const std::string& object) {
+            py::gil_scoped_release release;
+            return d.change([&](Database& db) { return remove_object(db, object); });
+          },
+          py::arg("object"))
+      .def(
+          "rename",
+          [](SharedDatabase& d, const std::string& from, const std::string& to) {
+            py::gil_scoped_release release;
+            return d.change([&](Database& db) { return rename_object(db, from, to); });
+          },
+          py::arg("object"), py::arg("to"))
       .def(
           "add_view",
           [](SharedDatabase& d, const std::string& object, const Frame& points,
@@ -105,8 +125,9 @@ void bind_database(py::module_& m) {
             {
               py::gil_scoped_release release;
               if (points.valid_count() == 0) throw InputError("points: no valid points");
-              std::unique_lock lock(d.mutex);
-              added = view_info(add_view(d.db, object, points, viewpoint, source));
+              added = d.change([&](Database& db) {
+                return view_info(add_view(db, object, points, viewpoint, source));
+              });
             }
             return view_dict(added);
           },
@@ -132,16 +153,16 @@ void bind_database(py::module_& m) {
             p.depth_noise = depth_noise;
             p.seed = seed;
             const auto rendered = render_views(mesh, p);
-            std::unique_lock lock(d.mutex);
             for (std::size_t i = 0; i < rendered.size(); ++i) {
               if (rendered[i].points.size() < 10) continue;  // the camera sees almost nothing
               const auto& e = rendered[i].eye;
               char source[512];
               std::snprintf(source, sizeof source, "%s view %zu/%d, camera at (%.3f, %.3f, %.3f) m",
                             mesh_path.c_str(), i + 1, views, e.x(), e.y(), e.z());
-              added.push_back(view_info(add_view(d.db, object, rendered[i].points, e, source)));
+              added.push_back(d.change([&](Database& db) {
+                return view_info(add_view(db, object, rendered[i].points, e, source));
+              }));
             }
-            lock.unlock();
             py::gil_scoped_acquire acquire;
             py::list out;
             for (const ViewInfo& v : added) out.append(view_dict(v));

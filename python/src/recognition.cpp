@@ -1,8 +1,8 @@
 // proxseg.recognize() and recognize_object() [paper 3.4]: objects with names, scores and poses,
 // the per-point object ids, and for a scene the segmentation it started from.
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <chrono>
 
@@ -19,9 +19,10 @@ RecognitionParams recognition_params(const py::handle& params) {
   return p;
 }
 
-const Database& non_empty(const SharedDatabase& d) {
-  if (d.db.views.empty()) throw InputError(d.db.dir + ": the database has no views");
-  return d.db;
+std::shared_ptr<const Database> non_empty(const SharedDatabase& d) {
+  auto db = d.snapshot();
+  if (db->views.empty()) throw InputError(db->dir + ": the database has no views");
+  return db;
 }
 
 // Per object: "report" (its entry of the CLI's report: name, scores, pose, view, runner-up,
@@ -65,10 +66,10 @@ void bind_recognition(py::module_& m) {
         std::vector<SceneObject> objects;
         std::vector<std::uint32_t> ids;
         double segment_ms = 0, recognize_ms = 0;
+        const std::shared_ptr<const Database> snapshot = non_empty(d);
+        const Database& db = *snapshot;
         {
           py::gil_scoped_release release;
-          std::shared_lock lock(d.mutex);
-          const Database& db = non_empty(d);
           auto t = std::chrono::steady_clock::now();
           segmentation = segment(frame, seg);
           segment_ms = ms_since(t);
@@ -78,10 +79,7 @@ void bind_recognition(py::module_& m) {
           ids = recognition_labels(frame, objects);
         }
         py::dict out;
-        {
-          std::shared_lock lock(d.mutex);  // no writer waits for the GIL while holding it
-          out["objects"] = objects_list(objects, d.db);
-        }
+        out["objects"] = objects_list(objects, db);
         out["object_ids"] = to_numpy(std::move(ids), point_shape(frame));
         out["segmentation"] = segmentation_dict(frame, seg, std::move(segmentation));
         py::dict times;
@@ -97,18 +95,15 @@ void bind_recognition(py::module_& m) {
         const RecognitionParams rec = recognition_params(params);
         std::vector<SceneObject> objects;
         double recognize_ms = 0;
+        const std::shared_ptr<const Database> db = non_empty(d);
         {
           py::gil_scoped_release release;
-          std::shared_lock lock(d.mutex);
           const auto t = std::chrono::steady_clock::now();
-          objects.push_back(recognize_object(cloud, non_empty(d), rec));
+          objects.push_back(recognize_object(cloud, *db, rec));
           recognize_ms = ms_since(t);
         }
         py::dict out;
-        {
-          std::shared_lock lock(d.mutex);
-          out["objects"] = objects_list(objects, d.db);
-        }
+        out["objects"] = objects_list(objects, *db);
         py::dict times;
         times["recognize"] = recognize_ms;
         out["times_ms"] = times;

@@ -15,10 +15,13 @@ def test_missing_and_unreadable_files_raise_oserror(tmp_path):
     (tmp_path / "dir.pcd").mkdir()
     with pytest.raises(OSError, match="dir.pcd: is a directory"):
         proxseg.read_point_cloud(tmp_path / "dir.pcd")
-    with pytest.raises(OSError, match="index.json: does not exist"):
+    with pytest.raises(OSError, match="database.sqlite: does not exist"):
         proxseg.Database(tmp_path)
-    with pytest.raises(OSError, match="not a directory"):
+    with pytest.raises(OSError, match="none: does not exist"):
         proxseg.Database(tmp_path / "none")
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(OSError, match="file: is not a directory"):
+        proxseg.Database(tmp_path / "file")
     with pytest.raises(OSError, match="file not found"):
         proxseg.read_rgbd(tmp_path / "nope-color.png", tmp_path / "d.png", meta=tmp_path / "m.json")
     with pytest.raises(OSError):

@@ -6,6 +6,7 @@
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/recognition/model_view.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -428,13 +429,10 @@ Database captured_database(const SceneCatalogue& catalogue, const CaptureParams&
         points.push_back(world_from_camera * image.xyz[k].cast<double>());
         colours.push_back(image.rgb[k]);
       }
-      ModelView v;
-      v.object = object.name;
-      v.source =
-          object.name + " view " + std::to_string(i + 1) + "/" + std::to_string(capture.views);
-      v.cloud = describe(points, eye, descriptor, &colours);
-      add_part_signatures(v.cloud);
-      db.views.push_back(std::move(v));
+      db.views.push_back(make_model_view(
+          object.name, describe(points, eye, descriptor, &colours),
+          object.name + " view " + std::to_string(i + 1) + "/" + std::to_string(capture.views),
+          object.name + "-" + std::to_string(i)));
     }
   }
   return db;

@@ -3,6 +3,7 @@
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/registration.hpp>
 
 #include <Eigen/Geometry>
@@ -94,14 +95,11 @@ Database render_database(const std::vector<TestObject>& objects, int views,
       std::vector<Eigen::Vector3d> points;
       points.reserve(rendered[i].points.xyz.size());
       for (const auto& p : rendered[i].points.xyz) points.push_back(p.cast<double>());
-      ModelView v;
-      v.object = o.name;
-      v.source = source;
       const std::vector<Rgb>& rgb = rendered[i].points.rgb;
-      v.cloud = describe(points, rendered[i].eye, descriptor,
-                         rgb.size() == points.size() ? &rgb : nullptr);
-      add_part_signatures(v.cloud);
-      db.views.push_back(std::move(v));
+      db.views.push_back(make_model_view(o.name,
+                                         describe(points, rendered[i].eye, descriptor,
+                                                  rgb.size() == points.size() ? &rgb : nullptr),
+                                         source, o.name + "-" + std::to_string(i)));
     }
   }
   return dir.empty() ? db : load_database(dir);

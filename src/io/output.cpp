@@ -413,7 +413,7 @@ nlohmann::json recognition_json(const SceneObject& o, const Database& db) {
   };
   const auto match = [&](const Match& m) -> nlohmann::json {
     if (m.view < 0) return nullptr;
-    return {{"name", m.object},           {"view", db.views[m.view].file},
+    return {{"name", m.object},           {"view", db.views[m.view].name},
             {"score", m.score},           {"fitness", m.fitness},
             {"coverage", m.coverage},     {"colour", m.colour},
             {"free_space", m.free_space}, {"rmse", m.rmse},
@@ -660,7 +660,7 @@ cv::Mat recognition_image(const Frame& frame, const std::vector<SceneObject>& ob
     const Recognition& r = objects[k].recognition;
     if (!pr.ok || r.best.view < 0 || r.name == "unknown") continue;
     // The aligned model view: where the model says the object is.
-    for (const auto& p : db.views[r.best.view].cloud.points) {
+    for (const auto& p : db.views[r.best.view].cloud().points) {
       const Eigen::Vector3d q3 =
           r.best.pose.topLeftCorner<3, 3>() * p + r.best.pose.topRightCorner<3, 1>();
       if (!pr.in_front(q3)) continue;
@@ -713,6 +713,13 @@ nlohmann::json recognition_report(const std::string& input, const std::string& d
   report["parameters"] = {{"recognition", to_json(rec)}};
   if (seg) report["parameters"]["segmentation"] = to_json(*seg);
   report["candidates"] = recognition_candidates_json(objects, db);
+  // Views whose damaged records left them out (at open, or when recognition read them): the
+  // answers come from the others (`proxseg db check` lists every damaged record).
+  std::vector<std::string> damaged = db.damaged;
+  for (const SceneObject& o : objects)
+    for (const std::string& d : o.recognition.damaged)
+      if (std::find(damaged.begin(), damaged.end(), d) == damaged.end()) damaged.push_back(d);
+  report["database"]["damaged_views"] = damaged;
   return report;
 }
 

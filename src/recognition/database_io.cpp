@@ -1,277 +1,376 @@
-// The model database on disk: index.json, a PCD per view and a feature cache per view
-// (format in docs/database.md).
-#include <proxseg/io/cloud_io.hpp>
+// The model database file (docs/database.md): a SQLite file in WAL mode, three tables of view
+// records beside a table of settings. SQLite gives what a database shared by robots and built
+// over weeks needs: one writer at a time across processes, readers that never wait for it, a
+// commit that a crash or a full disk cannot tear.
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/registration.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <limits>
+#include <map>
+
+#include "folder_database.hpp"
+#include "sqlite.hpp"
+#include "util/checksum.hpp"
+#include "view_record.hpp"
 
 namespace fs = std::filesystem;
 
 namespace proxseg {
+
+struct DatabaseFile {
+  DatabaseFile(const std::string& path, detail::Sqlite::Mode mode) : sql(path, mode) {}
+  detail::Sqlite sql;
+};
+
 namespace {
 
-constexpr char kMagic[8] = {'P', 'X', 'S', 'G', 'F', 'P', 'F', '1'};
-constexpr int kVersion = 1;
+using detail::Sqlite;
+using detail::Statement;
+
 const char* const kFormat = "proxseg-model-database";
-const Rgb kNoColour = {128, 128, 128};  // what a view from an XYZ-only cloud stores in its PCD
+constexpr int kVersion = 2;
+const Rgb kNoColour = {128, 128, 128};  // what a point of an XYZ-only cloud is filtered with
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw InputError(where + ": " + what);
-}
-// The same for a file or directory the system refuses (missing, unreadable, unwritable).
-[[noreturn]] void fail_file(const std::string& where, const std::string& what) {
-  throw FileError(where + ": " + what);
-}
+const char* const kSchema = R"(
+CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS views(
+  record INTEGER PRIMARY KEY AUTOINCREMENT,
+  object TEXT NOT NULL, name TEXT NOT NULL UNIQUE, source TEXT NOT NULL,
+  points INTEGER NOT NULL, coloured INTEGER NOT NULL, summary BLOB NOT NULL);
+CREATE INDEX IF NOT EXISTS views_object ON views(object);
+CREATE TABLE IF NOT EXISTS parts(record INTEGER PRIMARY KEY, data BLOB NOT NULL);
+CREATE TABLE IF NOT EXISTS bodies(record INTEGER PRIMARY KEY, data BLOB NOT NULL);
+)";
 
-// FNV-1a over the float coordinates: ties a feature cache to the exact points of its PCD.
-std::uint64_t checksum(const std::vector<Eigen::Vector3d>& points) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (const auto& p : points)
-    for (int k = 0; k < 3; ++k) {
-      const float f = static_cast<float>(p[k]);
-      unsigned char b[4];
-      std::memcpy(b, &f, 4);
-      for (unsigned char c : b) h = (h ^ c) * 1099511628211ull;
-    }
-  return h;
+std::string file_path(const std::string& dir) {
+  return (fs::path(dir) / kDatabaseFile).string();
 }
 
-template <class T>
-void put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-std::string cache_bytes(const Cloud& c) {
-  std::string out(kMagic, 8);
-  put(out, static_cast<std::uint32_t>(c.size()));
-  put(out, static_cast<std::uint32_t>(c.features.rows()));
-  for (int k = 0; k < 3; ++k) put(out, c.viewpoint[k]);
-  put(out, checksum(c.points));
-  for (const auto& n : c.normals)
-    for (int k = 0; k < 3; ++k) put(out, static_cast<float>(n[k]));
-  for (Eigen::Index j = 0; j < c.features.cols(); ++j)
-    for (Eigen::Index i = 0; i < c.features.rows(); ++i)
-      put(out, static_cast<float>(c.features(i, j)));
-  return out;
-}
-
-Cloud read_cache(const std::string& path, std::vector<Eigen::Vector3d> points,
-                 std::vector<Rgb> colours, std::size_t expected_dims) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, "cannot open the feature cache (expected the file named in index.json)");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::size_t header = 8 + 4 + 4 + 3 * 8 + 8;
-  if (bytes.size() < header || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    fail(path, "is not a proxseg feature cache (bad magic or truncated header)");
-  std::uint32_t n = 0, dims = 0;
-  double vp[3];
-  std::uint64_t sum = 0;
-  std::memcpy(&n, bytes.data() + 8, 4);
-  std::memcpy(&dims, bytes.data() + 12, 4);
-  std::memcpy(vp, bytes.data() + 16, 24);
-  std::memcpy(&sum, bytes.data() + 40, 8);
-  if (n != points.size())
-    fail(path, "has " + std::to_string(n) + " points but its PCD has " +
-                   std::to_string(points.size()) + " (stale cache; re-add the view)");
-  if (dims != expected_dims)
-    fail(path, "has " + std::to_string(dims) + " feature dimensions (expected " +
-                   std::to_string(expected_dims) + " from the index's fpfh_radii)");
-  const std::size_t expected = header + std::size_t(n) * (3 + dims) * sizeof(float);
-  if (bytes.size() != expected)
-    fail(path, "has " + std::to_string(bytes.size()) + " bytes (expected " +
-                   std::to_string(expected) + "; truncated or corrupt)");
-  if (sum != checksum(points))
-    fail(path, "does not match the points of its PCD (stale cache; re-add the view)");
-  const float* f = reinterpret_cast<const float*>(bytes.data() + header);
-  std::vector<Eigen::Vector3d> normals(n);
-  for (std::uint32_t i = 0; i < n; ++i, f += 3) {
-    normals[i] = Eigen::Vector3d(f[0], f[1], f[2]);
-    if (!normals[i].allFinite()) fail(path, "has a non-finite normal (corrupt cache)");
-  }
-  Eigen::MatrixXd features(dims, n);
-  for (std::uint32_t j = 0; j < n; ++j)
-    for (std::uint32_t i = 0; i < dims; ++i, ++f) {
-      if (!std::isfinite(*f)) fail(path, "has a non-finite feature value (corrupt cache)");
-      features(i, j) = *f;
-    }
-  return restore(std::move(points), std::move(normals), std::move(features),
-                 Eigen::Vector3d(vp[0], vp[1], vp[2]), std::move(colours));
-}
-
-// A view's files must lie inside the database directory: the index is data, and must not make
-// the loader read files elsewhere (another database's, or a device such as /dev/zero).
-void check_inside(const std::string& where, const std::string& rel) {
-  const fs::path p(rel);
-  const bool up = std::any_of(p.begin(), p.end(), [](const fs::path& c) { return c == ".."; });
-  if (rel.empty() || p.is_absolute() || up)
-    fail(where, "view file \"" + rel + "\" is not a relative path inside the database directory");
-}
-
-// A file the loader reads, DIR/REL, must be the database's own plain file: no component below
-// DIR a symbolic link (it could point anywhere, /proc/self/environ included) and the file itself
-// a regular one (a FIFO would block the open for ever, a device would be read as data). DIR
-// itself may be a link: that is where the user put the database. Missing: "" (the caller says
-// what it expected); otherwise the path.
-std::string plain_file(const std::string& dir, const std::string& rel) {
-  fs::path at(dir);
-  const fs::path r(rel);
-  for (auto it = r.begin(); it != r.end(); ++it) {
-    at /= *it;
-    std::error_code ec;
-    const fs::file_status st = fs::symlink_status(at, ec);
-    if (ec || st.type() == fs::file_type::not_found) return "";
+// The database reads and writes only its own plain files: the database file and SQLite's WAL,
+// shared-memory and journal files beside it must not be symbolic links (they could point
+// anywhere) or special files (a FIFO would block, a device be read as data). DIR itself may be
+// a link: that is where the user put the database. Whether the database file exists.
+bool check_own_files(const std::string& dir) {
+  std::error_code ec;
+  const fs::file_status d = fs::status(dir, ec);
+  if (d.type() == fs::file_type::not_found) return false;
+  if (d.type() != fs::file_type::directory)
+    throw FileError(dir + ": is not a directory (expected a model database)");
+  bool found = false;
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+    const fs::path p = fs::path(dir) / (std::string(kDatabaseFile) + suffix);
+    const fs::file_status st = fs::symlink_status(p, ec);
+    if (st.type() == fs::file_type::not_found) continue;
     if (st.type() == fs::file_type::symlink)
-      fail(at.string(), "is a symbolic link (a database reads only its own files)");
-    if (std::next(it) == r.end() && st.type() != fs::file_type::regular)
-      fail(at.string(), "is not a regular file (a database reads only its own files)");
+      throw FileError(p.string() + ": is a symbolic link (a database reads only its own files)");
+    if (st.type() != fs::file_type::regular)
+      throw FileError(p.string() + ": is not a regular file (a database reads only its own files)");
+    found = found || *suffix == '\0';
   }
-  return at.string();
+  return found;
 }
 
-// Whether a view's colours say anything: a captured or rendered surface never has one colour at
-// every point, while a model painted with a placeholder (PCL's milk.pcd is (0, 0, 255)
-// throughout) or stored from an XYZ-only cloud (kNoColour) does.
-bool informative(const std::vector<Rgb>& colours) {
-  return std::any_of(colours.begin(), colours.end(),
-                     [&](const Rgb& c) { return c != colours.front(); });
+void check_name(const std::string& object) {
+  if (object.empty() || object == "unknown")
+    throw InputError("object name: expected a non-empty name other than \"unknown\"");
+  for (unsigned char c : object)
+    if (c < 32) throw InputError("object name: control characters are not allowed");
 }
 
-// A view's colours, or none: "colour": false in the index, or colours that say nothing.
-std::vector<Rgb> view_colours(const std::string& where, const nlohmann::json& view,
-                              const Frame& f) {
-  if (view.contains("colour")) {
-    if (!view["colour"].is_boolean()) fail(where, "field \"colour\": expected true or false");
-    if (!view["colour"].get<bool>()) return {};
-  }
-  return informative(f.rgb) ? f.rgb : std::vector<Rgb>{};
+void check_descriptor(const DescriptorParams& d) {
+  if (!(d.voxel_size > 0) || !std::isfinite(d.voxel_size))
+    throw InputError("voxel_size: expected a positive size in metres");
+  if (!(d.normal_radius > 0) || !std::isfinite(d.normal_radius))
+    throw InputError("normal_radius: expected a positive radius in metres");
+  if (d.fpfh_radii.empty()) throw InputError("fpfh_radii: expected at least one radius");
+  for (double r : d.fpfh_radii)
+    if (!(r > 0) || !std::isfinite(r)) throw InputError("fpfh_radii: expected positive radii");
 }
 
-// File-name-safe form of an object name.
+// File-name-safe form of an object name, the stem of its views' names.
 std::string slug(const std::string& name) {
   std::string s;
   for (unsigned char c : name) s += std::isalnum(c) || c == '-' || c == '_' || c == '.' ? c : '_';
   return s;
 }
 
-template <class T>
-T field(const std::string& where, const nlohmann::json& j, const char* name) {
-  if (!j.is_object() || !j.contains(name))
-    fail(where, std::string("missing field \"") + name + "\"");
+// Whether a view's colours say anything: a captured or rendered surface never has one colour at
+// every point, while a model painted with a placeholder (PCL's milk.pcd is (0, 0, 255)
+// throughout) or filtered from an XYZ-only cloud (kNoColour) does.
+bool informative(const std::vector<Rgb>& colours) {
+  return std::any_of(colours.begin(), colours.end(),
+                     [&](const Rgb& c) { return c != colours.front(); });
+}
+
+std::string descriptor_text(const DescriptorParams& d) {
+  return to_json(d).dump();
+}
+
+// The settings row: the descriptor's JSON with its checksum, so that an edited voxel size is
+// told rather than used (candidates would be described unlike the views).
+std::string sealed_text(const std::string& text) {
+  char sum[24];
+  std::snprintf(sum, sizeof sum, "%016llx",
+                static_cast<unsigned long long>(checksum64(text.data(), text.size())));
+  return text + "\n" + sum;
+}
+
+std::string unsealed_text(const std::string& where, const std::string& value) {
+  const auto cut = value.rfind('\n');
+  if (cut == std::string::npos || sealed_text(value.substr(0, cut)) != value)
+    throw InputError(where + ": the descriptor setting is damaged (its checksum does not match)");
+  return value.substr(0, cut);
+}
+
+DescriptorParams parse_descriptor(const std::string& where, const std::string& text) {
+  DescriptorParams d;
   try {
-    return j.at(name).get<T>();
-  } catch (const nlohmann::json::exception&) {
-    fail(where,
-         std::string("field \"") + name + "\" has the wrong type (" + j.at(name).type_name() + ")");
+    const nlohmann::json j = nlohmann::json::parse(text);
+    d.voxel_size = j.at("voxel_size").get<double>();
+    d.normal_radius = j.at("normal_radius").get<double>();
+    d.fpfh_radii = j.at("fpfh_radii").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where + ": the descriptor setting is not what proxseg writes (" + e.what() +
+                     ")");
+  }
+  try {
+    check_descriptor(d);
+  } catch (const InputError& e) {
+    throw InputError(where + ": descriptor " + e.what());
+  }
+  return d;
+}
+
+std::string setting(Sqlite& sql, const std::string& key) {
+  Statement s(sql, "SELECT value FROM meta WHERE key = ?");
+  s.bind(1, key);
+  return s.step() ? s.text(0) : std::string();
+}
+
+bool has_table(Sqlite& sql, const char* table) {
+  Statement s(sql, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?");
+  s.bind(1, std::string(table));
+  return s.step();
+}
+
+// The database's format, version and units, checked; its descriptor.
+DescriptorParams read_settings(Sqlite& sql) {
+  const std::string& path = sql.path();
+  if (!has_table(sql, "meta") || !has_table(sql, "views") || !has_table(sql, "parts") ||
+      !has_table(sql, "bodies"))
+    throw InputError(path + ": not a proxseg model database (its tables are missing)");
+  if (setting(sql, "format") != kFormat)
+    throw InputError(path + ": not a proxseg model database (format \"" + setting(sql, "format") +
+                     "\")");
+  const std::string version = setting(sql, "version");
+  if (version != std::to_string(kVersion))
+    throw InputError(path + ": format version " + version + " (this proxseg reads version " +
+                     std::to_string(kVersion) + "; a newer proxseg wrote it?)");
+  if (setting(sql, "units") != "metres")
+    throw InputError(path + ": units \"" + setting(sql, "units") + "\" (expected metres)");
+  return parse_descriptor(path, unsealed_text(path, setting(sql, "descriptor")));
+}
+
+std::string where_of(const std::string& path, const std::string& name, std::int64_t record) {
+  return path + " view " + name + " (record " + std::to_string(record) + ")";
+}
+
+std::string record_bytes(DatabaseFile& f, const char* table, std::int64_t record,
+                         const std::string& where) {
+  return f.sql.run([&] {
+    Statement s(f.sql, std::string("SELECT data FROM ") + table + " WHERE record = ?");
+    s.bind(1, record);
+    if (!s.step())
+      throw InputError(where + ": its " + (std::string(table) == "parts" ? "parts" : "body") +
+                       " record is missing (removed since the database was opened, or damaged)");
+    return s.blob(0);
+  });
+}
+
+// A stored view: its summary decoded, its parts and body read on first use.
+ModelView stored_view(const std::shared_ptr<DatabaseFile>& file, std::int64_t record,
+                      std::string object, std::string name, std::string source, std::size_t points,
+                      bool coloured, const detail::ViewSummary& summary, std::size_t dims) {
+  ModelView v;
+  v.object = std::move(object);
+  v.name = std::move(name);
+  v.source = std::move(source);
+  v.record = record;
+  v.points = points;
+  v.coloured = coloured;
+  v.viewpoint = summary.viewpoint;
+  v.signature = summary.signature;
+  v.parts_reach = summary.parts_reach;
+  const std::string where = where_of(file->sql.path(), v.name, record);
+  v.parts = std::make_shared<const Lazy<std::vector<Signature>>>(
+      std::function<std::vector<Signature>()>([file, record, where] {
+        return detail::decode_parts(where, record_bytes(*file, "parts", record, where));
+      }));
+  const Eigen::Vector3d viewpoint = summary.viewpoint;
+  v.described = std::make_shared<const Lazy<Cloud>>(
+      std::function<Cloud()>([file, record, where, points, dims, viewpoint, coloured] {
+        Cloud c = detail::decode_body(where, record_bytes(*file, "bodies", record, where), points,
+                                      dims, viewpoint);
+        if (c.colours.empty() == coloured)
+          throw InputError(where + ": body record damaged: its colours disagree with its row");
+        return c;
+      }));
+  return v;
+}
+
+std::size_t feature_dims(const DescriptorParams& d) {
+  return 33 * d.fpfh_radii.size();
+}
+
+// The views of a file in one read transaction: the database as one writer left it.
+void read_views(Database& db) {
+  Sqlite& sql = db.file->sql;
+  sql.run([&] {
+    sql.read([&] {
+      db.descriptor = read_settings(sql);
+      Statement s(sql,
+                  "SELECT record, object, name, source, points, coloured, summary FROM views "
+                  "ORDER BY record");
+      while (s.step()) {
+        const std::int64_t record = s.integer(0);
+        const std::string name = s.text(2);
+        const std::string where = where_of(sql.path(), name, record);
+        try {
+          const std::int64_t points = s.integer(4);
+          if (points < 10 || points > (std::int64_t(1) << 31))
+            throw InputError(where + ": its row says " + std::to_string(points) + " points");
+          const auto summary = detail::decode_summary(where, s.blob(6));
+          db.views.push_back(stored_view(db.file, record, s.text(1), name, s.text(3),
+                                         static_cast<std::size_t>(points), s.integer(5) != 0,
+                                         summary, feature_dims(db.descriptor)));
+        } catch (const InputError& e) {
+          db.damaged.push_back(e.what());
+        }
+      }
+    });
+  });
+}
+
+// SQLite opens the file refusing a link in its place (SQLITE_OPEN_NOFOLLOW, which refuses a
+// link anywhere in the path): the directory is resolved first, as it may be one.
+std::shared_ptr<DatabaseFile> open_file(const std::string& dir, Sqlite::Mode mode) {
+  std::error_code ec;
+  const fs::path resolved = fs::canonical(dir, ec);
+  return std::make_shared<DatabaseFile>(file_path(ec ? dir : resolved.string()), mode);
+}
+
+// The version-1 folder database's hint, for a directory that has one.
+void refuse_folder_database(const std::string& dir) {
+  if (detail::is_folder_database(dir))
+    throw InputError(dir +
+                     ": a version-1 folder database (index.json, views/); convert it with "
+                     "`proxseg db upgrade " +
+                     dir + "`");
+}
+
+// The next free name for a view of `object`: slug-NNN.
+std::string free_name(Sqlite& sql, const std::string& object) {
+  Statement count(sql, "SELECT count(*) FROM views WHERE object = ?");
+  count.bind(1, object);
+  count.step();
+  for (std::int64_t n = count.integer(0);; ++n) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "-%03lld", static_cast<long long>(n));
+    const std::string name = slug(object) + buf;
+    Statement taken(sql, "SELECT 1 FROM views WHERE name = ?");
+    taken.bind(1, name);
+    if (!taken.step()) return name;
   }
 }
 
-void write_index(const Database& db) {
-  nlohmann::json objects = nlohmann::json::array();
-  for (const std::string& name : db.objects()) {
-    nlohmann::json views = nlohmann::json::array();
-    for (const ModelView& v : db.views) {
-      if (v.object != name) continue;
-      const auto& vp = v.cloud.viewpoint;
-      views.push_back({{"file", v.file},
-                       {"features", v.features},
-                       {"points", v.cloud.size()},
-                       {"viewpoint", vp.allFinite() ? nlohmann::json{vp.x(), vp.y(), vp.z()}
-                                                    : nlohmann::json(nullptr)},
-                       {"colour", !v.cloud.colours.empty()},
-                       {"source", v.source}});
-    }
-    objects.push_back({{"name", name}, {"views", views}});
+// Creates the tables and settings of a new file, or checks that an existing one holds the same
+// descriptor (another process may have made it since this one looked). Inside a write.
+void ensure_settings(Sqlite& sql, const DescriptorParams& descriptor) {
+  if (has_table(sql, "meta") && !setting(sql, "format").empty()) {
+    const DescriptorParams d = read_settings(sql);
+    if (d.voxel_size != descriptor.voxel_size || d.normal_radius != descriptor.normal_radius ||
+        d.fpfh_radii != descriptor.fpfh_radii)
+      throw InputError(sql.path() +
+                       ": the database was made with other descriptor parameters meanwhile");
+    return;
   }
-  const nlohmann::json index = {{"format", kFormat},
-                                {"version", kVersion},
-                                {"units", "metres"},
-                                {"descriptor", to_json(db.descriptor)},
-                                {"objects", objects}};
-  write_file_atomic((fs::path(db.dir) / "index.json").string(), index.dump(2) + "\n");
+  sql.exec(kSchema);
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"format", kFormat},
+                                   {"version", std::to_string(kVersion)},
+                                   {"units", "metres"},
+                                   {"descriptor", sealed_text(descriptor_text(descriptor))}}) {
+    Statement s(sql, "INSERT OR REPLACE INTO meta(key, value) VALUES (?, ?)");
+    s.bind(1, key).bind(2, value);
+    s.step();
+  }
+}
+
+// Writes one view's records; its record number. Inside a write.
+std::int64_t insert_view(Sqlite& sql, const ModelView& v, const std::string& body) {
+  const detail::ViewSummary summary{v.viewpoint, v.signature, v.parts_reach};
+  Statement row(sql,
+                "INSERT INTO views(object, name, source, points, coloured, summary) "
+                "VALUES (?, ?, ?, ?, ?, ?)");
+  row.bind(1, v.object)
+      .bind(2, v.name)
+      .bind(3, v.source)
+      .bind(4, static_cast<std::int64_t>(v.points))
+      .bind(5, std::int64_t(v.coloured))
+      .bind_blob(6, detail::encode_summary(summary));
+  row.step();
+  const std::int64_t record = sql.last_insert_rowid();
+  for (const auto& [table, bytes] :
+       {std::pair<const char*, std::string>{"parts", detail::encode_parts(v.part_signatures())},
+        {"bodies", body}}) {
+    Statement s(sql, std::string("INSERT INTO ") + table + "(record, data) VALUES (?, ?)");
+    s.bind(1, record).bind_blob(2, bytes);
+    s.step();
+  }
+  return record;
+}
+
+// Writes every view of db in one transaction; rename: give a view a free name when its own is
+// taken (otherwise a clash fails the whole write).
+void insert_views(Sqlite& sql, const Database& db, bool rename) {
+  sql.write([&] {
+    ensure_settings(sql, db.descriptor);
+    for (const ModelView& v : db.views) {
+      ModelView named = v;
+      if (rename) {
+        Statement taken(sql, "SELECT 1 FROM views WHERE name = ?");
+        taken.bind(1, v.name);
+        if (v.name.empty() || taken.step()) named.name = free_name(sql, v.object);
+      }
+      insert_view(sql, named, detail::encode_body(v.cloud()));
+    }
+  });
 }
 
 }  // namespace
 
 Database load_database(const std::string& dir) {
-  const std::string path = (fs::path(dir) / "index.json").string();
-  if (!fs::is_directory(dir)) fail_file(dir, "is not a directory (expected a model database)");
-  if (plain_file(dir, "index.json").empty())
-    fail_file(path, "does not exist (expected a model database index)");
-  nlohmann::json j;
-  {
-    std::ifstream in(path);
-    try {
-      j = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-      fail(path, std::string("is not valid JSON (") + e.what() + ")");
-    }
+  if (!check_own_files(dir)) {
+    refuse_folder_database(dir);
+    if (!fs::is_directory(dir))
+      throw FileError(dir + ": does not exist (expected a model database)");
+    throw FileError(file_path(dir) + ": does not exist (expected a model database in " + dir + ")");
   }
-  if (field<std::string>(path, j, "format") != kFormat)
-    fail(path, std::string("field \"format\" is not \"") + kFormat + "\"");
-  if (field<int>(path, j, "version") != kVersion)
-    fail(path, "field \"version\" is not " + std::to_string(kVersion));
-  if (field<std::string>(path, j, "units") != "metres")
-    fail(path, "field \"units\" is not \"metres\"");
   Database db;
   db.dir = dir;
-  const auto d = field<nlohmann::json>(path, j, "descriptor");
-  db.descriptor.voxel_size = field<double>(path + " descriptor", d, "voxel_size");
-  db.descriptor.normal_radius = field<double>(path + " descriptor", d, "normal_radius");
-  db.descriptor.fpfh_radii = field<std::vector<double>>(path + " descriptor", d, "fpfh_radii");
-  if (!(db.descriptor.voxel_size > 0) || !(db.descriptor.normal_radius > 0) ||
-      db.descriptor.fpfh_radii.empty())
-    fail(path, "descriptor: expected voxel_size > 0, normal_radius > 0 and fpfh_radii");
-  const auto objects = field<nlohmann::json>(path, j, "objects");
-  if (!objects.is_array()) fail(path, "field \"objects\" is not an array");
-  for (const auto& o : objects) {
-    const auto name = field<std::string>(path + " objects[]", o, "name");
-    const auto views = field<nlohmann::json>(path + " object " + name, o, "views");
-    if (!views.is_array()) fail(path, "object " + name + ": \"views\" is not an array");
-    for (const auto& v : views) {
-      ModelView mv;
-      mv.object = name;
-      const std::string where = path + " object " + name;
-      mv.file = field<std::string>(where, v, "file");
-      mv.features = field<std::string>(where, v, "features");
-      check_inside(where, mv.file);
-      check_inside(where, mv.features);
-      mv.source =
-          v.contains("source") && v["source"].is_string() ? v["source"].get<std::string>() : "";
-      const std::string pcd = (fs::path(dir) / mv.file).string();
-      if (plain_file(dir, mv.file).empty())
-        fail(pcd, "is missing (view of " + name + " listed in " + path + "; expected a PCD file)");
-      plain_file(dir, mv.features);  // a missing cache: read_cache says so
-      const Frame f = read_pcd(pcd);
-      std::vector<Eigen::Vector3d> points;
-      for (std::size_t i = 0; i < f.size(); ++i)
-        if (f.valid(i)) points.push_back(f.xyz[i].cast<double>());
-      if (points.size() != f.size()) fail(pcd, "has invalid points (expected a filtered view)");
-      mv.cloud = read_cache((fs::path(dir) / mv.features).string(), std::move(points),
-                            view_colours(where, v, f), 33 * db.descriptor.fpfh_radii.size());
-      add_part_signatures(mv.cloud);
-      db.views.push_back(std::move(mv));
-    }
-  }
+  db.file = open_file(dir, Sqlite::Mode::kRead);
+  read_views(db);
   return db;
 }
 
 Database open_database(const std::string& dir, const DescriptorParams& descriptor,
                        bool descriptor_given) {
-  if (!(descriptor.voxel_size > 0) || !std::isfinite(descriptor.voxel_size))
-    throw InputError("voxel_size: expected a positive size in metres");
-  if (!(descriptor.normal_radius > 0) || !std::isfinite(descriptor.normal_radius))
-    throw InputError("normal_radius: expected a positive radius in metres");
-  if (descriptor.fpfh_radii.empty()) throw InputError("fpfh_radii: expected at least one radius");
-  for (double r : descriptor.fpfh_radii)
-    if (!(r > 0) || !std::isfinite(r)) throw InputError("fpfh_radii: expected positive radii");
-  if (fs::exists(fs::path(dir) / "index.json")) {
+  check_descriptor(descriptor);
+  if (check_own_files(dir)) {
     Database db = load_database(dir);
     const DescriptorParams& d = db.descriptor;
     if (descriptor_given && !db.views.empty() &&
@@ -282,6 +381,7 @@ Database open_database(const std::string& dir, const DescriptorParams& descripto
                        "voxel_size, normal_radius and fpfh_radii apply to a new one");
     return db;
   }
+  refuse_folder_database(dir);
   Database db;
   db.dir = dir;
   db.descriptor = descriptor;
@@ -290,10 +390,7 @@ Database open_database(const std::string& dir, const DescriptorParams& descripto
 
 const ModelView& add_view(Database& db, const std::string& object, const Frame& points,
                           const Eigen::Vector3d& viewpoint, const std::string& source) {
-  if (object.empty() || object == "unknown")
-    throw InputError("object name: expected a non-empty name other than \"unknown\"");
-  for (unsigned char c : object)
-    if (c < 32) throw InputError("object name: control characters are not allowed");
+  check_name(object);
   std::vector<Eigen::Vector3d> xyz;
   std::vector<Rgb> rgb;
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -306,55 +403,214 @@ const ModelView& add_view(Database& db, const std::string& object, const Frame& 
   if (filtered.size() < 10)
     throw InputError(source + ": " + std::to_string(filtered.size()) +
                      " points after the voxel filter (expected at least 10 for a view)");
-  ModelView v;
-  v.object = object;
-  v.source = source;
   const bool coloured = points.rgb.size() == points.size() && informative(colours);
-  v.cloud = describe_filtered(filtered, viewpoint, db.descriptor,
-                              coloured ? colours : std::vector<Rgb>{});
-  add_part_signatures(v.cloud);
-  int number = 0;
-  for (const ModelView& w : db.views) number += w.object == object;
-  std::string stem;
-  do {  // a free file name, even if an earlier view of another name has the same slug
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "-%03d", number++);
-    stem = "views/" + slug(object) + buf;
-  } while (fs::exists(fs::path(db.dir) / (stem + ".pcd")));
-  v.file = stem + ".pcd";
-  v.features = stem + ".fpfh";
-  std::error_code ec;
-  fs::create_directories(fs::path(db.dir) / "views", ec);
-  if (ec) fail_file(db.dir, "cannot create the database directory (" + ec.message() + ")");
-  Frame out;
-  out.width = static_cast<int>(v.cloud.size());
-  out.height = 1;
-  for (std::size_t i = 0; i < v.cloud.size(); ++i)
-    out.xyz.push_back(v.cloud.points[i].cast<float>());
-  out.rgb = colours;
-  write_pcd((fs::path(db.dir) / v.file).string(), out, {});
-  write_file_atomic((fs::path(db.dir) / v.features).string(), cache_bytes(v.cloud));
+  // The view as a later load reads it: described, stored as floats, restored.
+  const std::string body = detail::encode_body(describe_filtered(
+      filtered, viewpoint, db.descriptor, coloured ? colours : std::vector<Rgb>{}));
+  ModelView v = make_model_view(
+      object,
+      detail::decode_body(source, body, filtered.size(), feature_dims(db.descriptor), viewpoint),
+      source);
+  if (!db.file) {
+    std::error_code ec;
+    fs::create_directories(db.dir, ec);
+    if (ec)
+      throw FileError(db.dir + ": cannot create the database directory (" + ec.message() + ")");
+    check_own_files(db.dir);
+    db.file = open_file(db.dir, Sqlite::Mode::kCreate);
+  }
+  Sqlite& sql = db.file->sql;
+  sql.run([&] {
+    sql.write([&] {
+      ensure_settings(sql, db.descriptor);
+      v.name = free_name(sql, object);
+      v.record = insert_view(sql, v, body);
+    });
+  });
   db.views.push_back(std::move(v));
-  write_index(db);
   return db.views.back();
+}
+
+namespace {
+
+// An existing database's file, opened to write (a database not yet written has nothing to change).
+Sqlite& writable(Database& db) {
+  if (!db.file) {
+    if (!check_own_files(db.dir))
+      throw InputError(db.dir + ": the database has no views yet (nothing to change)");
+    db.file = open_file(db.dir, Sqlite::Mode::kWrite);
+  }
+  return db.file->sql;
+}
+
+int count_of(Sqlite& sql, const std::string& object) {
+  Statement s(sql, "SELECT count(*) FROM views WHERE object = ?");
+  s.bind(1, object);
+  s.step();
+  return static_cast<int>(s.integer(0));
+}
+
+}  // namespace
+
+int remove_object(Database& db, const std::string& object) {
+  Sqlite& sql = writable(db);
+  int removed = 0;
+  sql.run([&] {
+    sql.write([&] {
+      read_settings(sql);
+      removed = count_of(sql, object);
+      if (removed == 0) throw InputError(db.dir + ": no object named \"" + object + "\"");
+      for (const char* table : {"parts", "bodies"}) {
+        Statement s(sql, std::string("DELETE FROM ") + table +
+                             " WHERE record IN (SELECT record FROM views WHERE object = ?)");
+        s.bind(1, object);
+        s.step();
+      }
+      Statement s(sql, "DELETE FROM views WHERE object = ?");
+      s.bind(1, object);
+      s.step();
+    });
+  });
+  db.views.erase(std::remove_if(db.views.begin(), db.views.end(),
+                                [&](const ModelView& v) { return v.object == object; }),
+                 db.views.end());
+  return removed;
+}
+
+int rename_object(Database& db, const std::string& from, const std::string& to) {
+  check_name(to);
+  Sqlite& sql = writable(db);
+  int renamed = 0;
+  sql.run([&] {
+    sql.write([&] {
+      read_settings(sql);
+      renamed = count_of(sql, from);
+      if (renamed == 0) throw InputError(db.dir + ": no object named \"" + from + "\"");
+      Statement s(sql, "UPDATE views SET object = ? WHERE object = ?");
+      s.bind(1, to).bind(2, from);
+      s.step();
+    });
+  });
+  for (ModelView& v : db.views)
+    if (v.object == from) v.object = to;
+  return renamed;
+}
+
+DatabaseCheck check_database(const std::string& dir) {
+  DatabaseCheck out;
+  Database db = load_database(dir);
+  Sqlite& sql = db.file->sql;
+  sql.run([&] {
+    Statement s(sql, "PRAGMA quick_check");
+    while (s.step())
+      if (s.text(0) != "ok") out.damaged.push_back(sql.path() + ": structure: " + s.text(0));
+    Statement orphans(sql,
+                      "SELECT count(*) FROM (SELECT record FROM parts UNION SELECT record FROM "
+                      "bodies) WHERE record NOT IN (SELECT record FROM views)");
+    orphans.step();
+    if (orphans.integer(0) > 0)
+      out.damaged.push_back(sql.path() + ": " + std::to_string(orphans.integer(0)) +
+                            " records belong to no view");
+  });
+  out.views = static_cast<int>(db.views.size() + db.damaged.size());
+  for (const std::string& d : db.damaged) out.damaged.push_back(d);
+  for (const ModelView& v : db.views) {
+    bool whole = true;
+    for (const auto& read : {std::function<void()>([&] { v.part_signatures(); }),
+                             std::function<void()>([&] { v.cloud(); })})
+      try {
+        read();
+      } catch (const InputError& e) {
+        out.damaged.push_back(e.what());
+        whole = false;
+      }
+    out.whole += whole;
+  }
+  return out;
+}
+
+int write_database(const Database& db, const std::string& dir) {
+  check_descriptor(db.descriptor);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw FileError(dir + ": cannot create the database directory (" + ec.message() + ")");
+  check_own_files(dir);
+  refuse_folder_database(dir);
+  const auto file = open_file(dir, Sqlite::Mode::kCreate);
+  file->sql.run([&] { insert_views(file->sql, db, true); });
+  return static_cast<int>(db.views.size());
+}
+
+int upgrade_database(const std::string& dir) {
+  if (check_own_files(dir))
+    throw InputError(file_path(dir) + ": already exists (the database is upgraded)");
+  if (!detail::is_folder_database(dir))
+    throw InputError(dir + ": has no version-1 index.json to upgrade");
+  const Database old = detail::read_folder_database(dir);
+  // Written under another name and renamed when complete: an interrupted upgrade leaves no
+  // database file that looks like one.
+  const std::string partial = file_path(dir) + ".upgrading";
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(partial + suffix, ec);
+  {
+    Sqlite sql(partial, Sqlite::Mode::kCreate);
+    insert_views(sql, old, false);
+    sql.exec("PRAGMA wal_checkpoint(TRUNCATE)");
+  }
+  fs::rename(partial, file_path(dir), ec);
+  if (ec) throw FileError(file_path(dir) + ": cannot be written (" + ec.message() + ")");
+  for (const char* suffix : {"-wal", "-shm"}) fs::remove(partial + suffix, ec);
+  return static_cast<int>(old.views.size());
 }
 
 nlohmann::json database_info(const Database& db) {
   nlohmann::json objects = nlohmann::json::array();
-  std::size_t total = 0;
+  std::size_t total_points = 0;
+  std::map<std::string, std::pair<std::size_t, std::size_t>> stored;  // records, bytes
+  if (db.file) {
+    Sqlite& sql = db.file->sql;
+    sql.run([&] {
+      Statement s(sql,
+                  "SELECT v.object, count(*), sum(length(v.summary) + length(p.data) + "
+                  "length(b.data)) FROM views v JOIN parts p USING(record) JOIN bodies b "
+                  "USING(record) GROUP BY v.object");
+      while (s.step())
+        stored[s.text(0)] = {static_cast<std::size_t>(s.integer(1)),
+                             static_cast<std::size_t>(s.integer(2))};
+    });
+  }
+  std::size_t total_bytes = 0;
   for (const std::string& name : db.objects()) {
     int views = 0;
     std::size_t points = 0;
     for (const ModelView& v : db.views)
       if (v.object == name) {
         ++views;
-        points += v.cloud.size();
+        points += v.points;
       }
-    total += points;
-    objects.push_back({{"name", name}, {"views", views}, {"points", points}});
+    total_points += points;
+    const std::size_t bytes = stored.count(name) ? stored[name].second : 0;
+    total_bytes += bytes;
+    objects.push_back({{"name", name}, {"views", views}, {"points", points}, {"bytes", bytes}});
   }
-  return {{"dir", db.dir},      {"units", "metres"},        {"descriptor", to_json(db.descriptor)},
-          {"objects", objects}, {"views", db.views.size()}, {"points", total}};
+  std::size_t file_bytes = 0;
+  if (db.file)
+    for (const char* suffix : {"", "-wal"}) {
+      std::error_code ec;
+      const auto n = fs::file_size(file_path(db.dir) + suffix, ec);
+      if (!ec) file_bytes += n;
+    }
+  return {{"dir", db.dir},
+          {"file", db.file ? file_path(db.dir) : ""},
+          {"format_version", kVersion},
+          {"units", "metres"},
+          {"descriptor", to_json(db.descriptor)},
+          {"objects", objects},
+          {"views", db.views.size()},
+          {"points", total_points},
+          {"record_bytes", total_bytes},
+          {"file_bytes", file_bytes},
+          {"damaged", db.damaged}};
 }
 
 }  // namespace proxseg

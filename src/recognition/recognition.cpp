@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -82,22 +83,17 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
   return describe(points, Eigen::Vector3d::Zero(), db.descriptor, colours);
 }
 
-std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
-                                 const std::vector<std::string>& objects, bool parts) {
-  std::vector<std::pair<double, int>> ranked;
-  for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
-    if (!objects.empty() &&
-        std::find(objects.begin(), objects.end(), db.views[v].object) == objects.end())
-      continue;
-    ranked.emplace_back(shortlist <= 0 ? 0.0
-                        : parts
-                            ? view_distance(candidate.signature, db.views[v].cloud.signature)
-                            : signature_distance(candidate.signature, db.views[v].cloud.signature),
-                        v);
-  }
-  // Ties (and the whole order without a shortlist) go by view index.
-  std::stable_sort(ranked.begin(), ranked.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+namespace {
+
+// Floating-point slack of the triangle inequality behind parts_reach (distances are sums of
+// about 130 float differences, each exact to ~1e-7).
+constexpr double kBoundSlack = 1e-6;
+
+using Ranked = std::vector<std::pair<double, int>>;  // (distance, view), nearest first
+
+// The views of a shortlist of `shortlist` taken from `ranked` (sorted): the nearest ones, and
+// further the nearest view of a second object when they all show one.
+std::vector<int> take_shortlist(const Ranked& ranked, const Database& db, int shortlist) {
   std::vector<int> out;
   for (const auto& r : ranked) {
     if (shortlist > 0 && static_cast<int>(out.size()) >= shortlist) {
@@ -113,6 +109,62 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
   return out;
 }
 
+// The largest distance a view can have and still enter the shortlist taken from the views
+// measured so far (infinite while it could take any).
+double entry_distance(Ranked measured, const Database& db, int shortlist) {
+  if (static_cast<int>(measured.size()) < shortlist) return std::numeric_limits<double>::infinity();
+  std::sort(measured.begin(), measured.end());
+  const std::vector<int> taken = take_shortlist(measured, db, shortlist);
+  if (static_cast<int>(taken.size()) <= shortlist &&
+      std::all_of(taken.begin(), taken.end(),
+                  [&](int v) { return db.views[v].object == db.views[taken[0]].object; }))
+    return std::numeric_limits<double>::infinity();  // no second object yet
+  double d = 0;
+  for (const auto& m : measured)
+    if (std::find(taken.begin(), taken.end(), m.second) != taken.end()) d = std::max(d, m.first);
+  return d;
+}
+
+}  // namespace
+
+std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
+                                 const std::vector<std::string>& objects, bool parts,
+                                 std::vector<std::string>* damaged) {
+  Ranked bounds;  // (a lower bound of the view's distance, view)
+  std::vector<double> whole(db.views.size(), 0.0);
+  for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
+    const ModelView& view = db.views[v];
+    if (!objects.empty() && std::find(objects.begin(), objects.end(), view.object) == objects.end())
+      continue;
+    if (shortlist > 0) whole[v] = signature_distance(candidate.signature, view.signature);
+    bounds.emplace_back(
+        shortlist > 0 && parts ? whole[v] - view.parts_reach - kBoundSlack : whole[v], v);
+  }
+  // Ties (and the whole order without a shortlist) go by view index.
+  std::sort(bounds.begin(), bounds.end());
+  if (shortlist <= 0 || !parts) return take_shortlist(bounds, db, shortlist);
+  // A view's parts are read (stored databases) and compared only while its bound says it could
+  // still enter: exactly the shortlist of every view's view_distance().
+  Ranked measured;
+  double entry = std::numeric_limits<double>::infinity();
+  for (const auto& [bound, v] : bounds) {
+    if (bound > entry) break;
+    double d = whole[v];
+    try {
+      for (const Signature& part : db.views[v].part_signatures())
+        d = std::min(d, signature_distance(candidate.signature, part));
+    } catch (const InputError& e) {
+      if (damaged) damaged->push_back(e.what());
+      continue;
+    }
+    measured.emplace_back(d, v);
+    if (measured.size() % 16 == 0 || static_cast<int>(measured.size()) == shortlist)
+      entry = entry_distance(measured, db, shortlist);
+  }
+  std::sort(measured.begin(), measured.end());
+  return take_shortlist(measured, db, shortlist);
+}
+
 Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
                       const std::vector<std::string>& objects, const DepthImage* scene) {
   Recognition r;
@@ -123,20 +175,27 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   const detail::Stopwatch align_watch;
   const Cloud sample = subsample(candidate, params.registration.max_points);
   const std::vector<int> views =
-      shortlist_views(candidate, db, params.shortlist, objects, params.shortlist_parts);
+      shortlist_views(candidate, db, params.shortlist, objects, params.shortlist_parts, &r.damaged);
+  std::vector<std::string> unreadable(views.size());  // per shortlisted view, its record's damage
   const int m = static_cast<int>(views.size());
   for (int begin = 0; begin < m; begin += kBatch) {
     const int end = std::min(m, begin + kBatch);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = begin; k < end; ++k) {
       const int v = views[k];
-      r.alignments[v] = align(candidate, sample, db.views[v].cloud, params.registration,
+      const Cloud* view = nullptr;
+      try {  // a stored view is read here, the first time it is shortlisted
+        view = &db.views[v].cloud();
+      } catch (const InputError& e) {
+        unreadable[k] = e.what();
+        continue;
+      }
+      r.alignments[v] = align(candidate, sample, *view, params.registration,
                               mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
       if (scene && params.free_space_tolerance > 0) {
         Alignment& a = r.alignments[v];
-        a.free_space =
-            free_space_violation(*scene, db.views[v].cloud, a.pose, params.free_space_tolerance);
-        a.border_unexplained = border_unexplained(*scene, candidate, db.views[v].cloud, a.pose,
+        a.free_space = free_space_violation(*scene, *view, a.pose, params.free_space_tolerance);
+        a.border_unexplained = border_unexplained(*scene, candidate, *view, a.pose,
                                                   params.registration.fitness_distance);
       }
       done[v] = 1;
@@ -156,6 +215,8 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     }
   }
   r.align_ms = align_watch.ms();
+  for (const std::string& e : unreadable)
+    if (!e.empty()) r.damaged.push_back(e);
   // Algorithm 3: the best view names the candidate; ties go to the earlier view. Views are
   // ranked allowing for an occlusion (rank_of()); the answer is judged on the score, which does
   // not: an occlusion may explain why a model's surface is missing, which is reason to prefer the
@@ -187,9 +248,9 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
   if (r.best.view >= 0 && r.runner_up.view >= 0) {
-    const int winner = tell_lookalikes(candidate, db.views[r.best.view].cloud,
-                                       r.alignments[r.best.view], db.views[r.runner_up.view].cloud,
-                                       r.alignments[r.runner_up.view], params, &r.lookalike);
+    const int winner = tell_lookalikes(
+        candidate, db.views[r.best.view].cloud(), r.alignments[r.best.view],
+        db.views[r.runner_up.view].cloud(), r.alignments[r.runner_up.view], params, &r.lookalike);
     if (winner == 2) {  // the runner-up's colours are the candidate's: it is the answer
       std::swap(r.best, r.runner_up);
       std::swap(r.lookalike.first, r.lookalike.second);
@@ -377,9 +438,9 @@ std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecogniser
     // touching objects, one of which explains the piece about as well as another model does.
     const bool fits = named(w) || (r.best.view >= 0 && r.best.score >= params.min_score);
     if (fits && r.best.fitness < params.split_fitness && w.object.points.size() >= 2 * min_part) {
-      const std::vector<char> in =
-          explained(xyz_of(recognise.frame, w.object.points), recognise.db.views[r.best.view].cloud,
-                    r.best.pose, params.registration.fitness_distance);
+      const std::vector<char> in = explained(xyz_of(recognise.frame, w.object.points),
+                                             recognise.db.views[r.best.view].cloud(), r.best.pose,
+                                             params.registration.fitness_distance);
       SceneObject e = scene_object({}, w.object.instances, SceneObject::Origin::kSplit), rest = e;
       for (std::size_t i = 0; i < in.size(); ++i)
         (in[i] ? e : rest).points.push_back(w.object.points[i]);

@@ -136,8 +136,11 @@ struct Recognition {
   LookalikeVote lookalike;
   bool lookalike_decided = false;     // the vote named best (RecognitionParams::lookalike_share)
   std::vector<Alignment> alignments;  // per database view (empty slots: not aligned)
-  int views_aligned = 0;   // the shortlist's views aligned (fewer on an early exit or reject)
-  double align_ms = 0;     // wall time over all views
+  int views_aligned = 0;  // the shortlist's views aligned (fewer on an early exit or reject)
+  double align_ms = 0;    // wall time over all views
+  // Views left out because their stored records are damaged ("where: what"); the others still
+  // answer.
+  std::vector<std::string> damaged;
   double describe_ms = 0;  // describing the candidate (recognize_object, recognize_scene; 0 from
                            // recognize(), which is given it described)
 };
