@@ -6,18 +6,24 @@
 // (the same first objects). Every size runs the same seeded test views (make_test_views(), with
 // their colours) through describe_candidate() + recognize() with the default RecognitionParams
 // (a shortlist of the views nearest by signature) and, on the first --all-tests of them, with
-// shortlist = 0 (every view, the paper's way). Writes OUT/dbscale.md and OUT/dbscale.json.
+// shortlist = 0 (every view, the paper's way) on the sizes up to --all-max-views. Each size is
+// also written to a database file (OUT/db, grown from size to size; the in-process rows read
+// it), and measured as a user meets it, one process per question: opening it (this program with
+// --open, in a child) and `proxseg recognize --object` on the first --process-tests test views
+// (wall, CPU, peak RSS, answers). Writes OUT/dbscale.md and OUT/dbscale.json.
 // Exit codes: 0 ok, 1 bad input, 2 usage.
 // Usage: db_scale_bench --models DIR -o OUT [--units mm|m] [--views N] [--sizes 64,128,...]
-//                       [--tests N] [--all-tests N] [--lookalikes N] [--seed S] [--threads T]
-//                       [--json]
+//                       [--tests N] [--all-tests N] [--all-max-views N] [--process-tests N]
+//                       [--tools PATH] [--lookalikes N] [--seed S] [--threads T] [--json]
+//        db_scale_bench --open DB   (prints {"views", "ms", "rss_kb"} of opening DB)
 #include <proxseg/core/colour.hpp>
 #include <proxseg/core/memory.hpp>
-#include <proxseg/recognition/recognition.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <omp.h>
 
@@ -27,6 +33,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -37,6 +44,12 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "bench_util.hpp"
 #include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
@@ -49,24 +62,38 @@ using proxseg::Rgb;
 using proxseg::TestObject;
 using proxseg::TestView;
 constexpr double kPi = 3.14159265358979323846;
+namespace fs = std::filesystem;
 
 struct Options {
-  std::string models, output, units = "mm";
+  std::string models, output, units = "mm", tools, open, object;
   int views = 8, tests = 200, all_tests = 40, lookalikes = 8, threads = 0;
+  int all_max_views = 512, process_tests = 8;
   std::vector<int> sizes = {64, 128, 256, 512};
   std::uint64_t seed = 1;
   bool json = false;
 };
 
 void add_options(CLI::App* cmd, Options& o) {
+  cmd->add_option("--open", o.open, "Only open this database and print its time and RSS as JSON");
+  cmd->add_option("--object", o.object, "With --open: then recognise this cloud (peak RSS)");
   cmd->add_option("--models", o.models,
                   "Folder of PLY meshes, the objects tested "
-                  "(e.g. ../shared/data/lmo/models)")
-      ->required();
+                  "(e.g. ../shared/data/lmo/models)");
+  cmd->add_option("--all-max-views", o.all_max_views,
+                  "Align every view (the --all-tests rows) only up to this many views")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--process-tests", o.process_tests,
+                  "Test views recognised one process each with `proxseg recognize --object` per "
+                  "size (0: none)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--tools", o.tools,
+                  "The proxseg-tools program (default: the one in this build, ../proxseg-tools)");
   cmd->add_option("--units", o.units, "Units of the meshes")
       ->check(CLI::IsMember({"m", "mm"}))
       ->capture_default_str();
-  cmd->add_option("-o,--output", o.output, "Output folder (dbscale.md, dbscale.json)")->required();
+  cmd->add_option("-o,--output", o.output, "Output folder (dbscale.md, dbscale.json, db/)");
   cmd->add_option("--views", o.views, "Database views per object")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
@@ -324,6 +351,125 @@ std::pair<Answer, Extra> recognise(const TestView& t, const std::string& truth,
   return {a, e};
 }
 
+// ---- One process per question: how a user meets the database ----
+
+struct ProcessRun {
+  int code = -1;
+  double wall_s = 0, cpu_s = 0;
+  std::string out;
+};
+
+// Runs argv (stdout to out_file, stderr discarded): wall from spawn to exit, the child's CPU
+// (user + system) from wait4().
+ProcessRun run_process(const std::vector<std::string>& argv, const std::string& out_file) {
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 1, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&files, 2, "/dev/null", O_WRONLY, 0);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  ProcessRun r;
+  pid_t pid = 0;
+  const auto t0 = Clock::now();
+  const int failed = posix_spawn(&pid, args[0], &files, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (failed) throw InputError(argv[0] + ": cannot run (" + std::strerror(failed) + ")");
+  int status = 0;
+  rusage usage{};
+  ::wait4(pid, &status, 0, &usage);
+  r.wall_s = ms_since(t0) / 1000;
+  r.cpu_s = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+            (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(out_file);
+  r.out.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return r;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
+
+// This process's peak resident set (VmHWM: of this program's memory since its exec). A parent's
+// wait4() cannot tell it: Linux carries the RSS peak of the memory that spawned a child into the
+// child's ru_maxrss.
+double peak_rss_mb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6)) / 1024.0;
+  return 0;
+}
+
+// `db_scale_bench --open DB [--object PCD]`: what opening costs a fresh process, and with
+// --object, the peak RSS of `proxseg recognize --object` (the same calls, apps/recognize.cpp).
+int open_only(const std::string& dir, const std::string& object) {
+  const auto t0 = Clock::now();
+  const proxseg::Database db = proxseg::load_database(dir);
+  const double ms = ms_since(t0);
+  nlohmann::json out = {{"views", db.views.size()}, {"ms", ms}, {"rss_mb", peak_rss_mb()}};
+  if (!object.empty()) {
+    const proxseg::SceneObject o =
+        proxseg::recognize_object(proxseg::read_point_cloud(object), db, {});
+    out["object"] = {{"name", o.recognition.name}, {"rss_mb", peak_rss_mb()}};
+  }
+  std::cout << out.dump() << "\n";
+  return 0;
+}
+
+// Per database size: the file, opening it, and recognize --object processes.
+struct ProcessRow {
+  int views = 0;
+  double file_mb = 0, open_ms = 0, open_rss_mb = 0;
+  double wall_s = 0, cpu_s = 0, rss_mb = 0;  // recognize --object: medians, peak RSS the largest
+  int tests = 0, tp = 0;
+};
+
+ProcessRow measure_processes(const std::string& self, const std::string& tools,
+                             const std::string& dir, const std::vector<std::string>& test_files,
+                             const std::vector<std::string>& truths, double min_score,
+                             const fs::path& scratch) {
+  ProcessRow row;
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal"})  // the WAL while this process has the file open
+    row.file_mb +=
+        fs::file_size(fs::path(dir) / (std::string(proxseg::kDatabaseFile) + suffix), ec) / 1e6 *
+        !ec;
+  std::vector<double> open_ms;
+  for (int i = 0; i < 5; ++i) {
+    const ProcessRun r = run_process({self, "--open", dir}, (scratch / "open.json").string());
+    if (r.code != 0) throw InputError(dir + ": opening it in a child process failed");
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    row.views = j["views"];
+    open_ms.push_back(j["ms"]);
+    row.open_rss_mb = std::max(row.open_rss_mb, j["rss_mb"].get<double>());
+  }
+  row.open_ms = median(open_ms);
+  std::vector<double> wall, cpu;
+  for (std::size_t i = 0; i < test_files.size(); ++i) {
+    const ProcessRun r = run_process(
+        {tools, "recognize", "--object", test_files[i], "--db", dir, "--json", "--threads", "2"},
+        (scratch / "object.json").string());
+    if (r.code != 0) throw InputError(tools + " recognize --object " + test_files[i] + " failed");
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const nlohmann::json& c = j["candidates"][0];
+    ++row.tests;
+    row.tp += c["name"] == truths[i] && c["score"].get<double>() >= min_score;
+    wall.push_back(r.wall_s);
+    cpu.push_back(r.cpu_s);
+    const ProcessRun peak = run_process({self, "--open", dir, "--object", test_files[i]},
+                                        (scratch / "object-rss.json").string());
+    if (peak.code != 0) throw InputError(dir + ": recognising in a child process failed");
+    row.rss_mb =
+        std::max(row.rss_mb, nlohmann::json::parse(peak.out)["object"]["rss_mb"].get<double>());
+  }
+  row.wall_s = median(wall);
+  row.cpu_s = median(cpu);
+  return row;
+}
+
 nlohmann::json counts_json(const std::map<std::string, int>& counts) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [k, n] : counts) j[k] = n;
@@ -346,7 +492,9 @@ std::string counts_md(const std::map<std::string, int>& counts,
 }
 
 int run(const Options& o) {
-  namespace fs = std::filesystem;
+  if (!o.open.empty()) return open_only(o.open, o.object);
+  if (o.models.empty()) throw CLI::ValidationError("--models", "required");
+  if (o.output.empty()) throw CLI::ValidationError("-o,--output", "required");
   std::vector<int> sizes = o.sizes;
   std::sort(sizes.begin(), sizes.end());
   sizes.erase(std::unique(sizes.begin(), sizes.end()), sizes.end());
@@ -376,6 +524,15 @@ int run(const Options& o) {
   if (ec || !fs::is_directory(out))
     throw InputError(o.output + ": cannot create the output folder (" + ec.message() + ")");
   const std::string load_start = proxseg::bench::load_averages();
+  // The database file, grown size by size, and the programs run per question.
+  const fs::path db_dir = out / "db";
+  fs::remove_all(db_dir, ec);
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const std::string tools =
+      o.tools.empty() ? (fs::path(self).parent_path().parent_path() / "proxseg-tools").string()
+                      : o.tools;
+  if (o.process_tests > 0 && !fs::exists(tools))
+    throw InputError(tools + ": no proxseg-tools there (give --tools)");
 
   // Every object of the largest database, in database order: the tested ones first.
   auto t0 = Clock::now();
@@ -402,37 +559,67 @@ int run(const Options& o) {
   t0 = Clock::now();
   const std::vector<TestView> tests = proxseg::make_test_views(tested, tp, directions);
   const int all_tests = std::min<int>(o.all_tests, static_cast<int>(tests.size()));
+  // The process tests, as the PCD files a user would give.
+  std::vector<std::string> test_files, test_truths;
+  fs::create_directories(out / "tests", ec);
+  for (int i = 0; i < std::min<int>(o.process_tests, static_cast<int>(tests.size())); ++i) {
+    proxseg::Frame f;
+    for (const auto& p : tests[i].points) f.xyz.push_back(p.cast<float>());
+    if (tests[i].colours.size() == tests[i].points.size()) f.rgb = tests[i].colours;
+    f.width = static_cast<int>(f.xyz.size());
+    f.height = 1;
+    char name[32];
+    std::snprintf(name, sizeof name, "test-%03d.pcd", i);
+    test_files.push_back((out / "tests" / name).string());
+    proxseg::write_pcd(test_files.back(), f, {});
+    test_truths.push_back(tested[tests[i].object].name);
+  }
   bool coloured = true;
   for (const TestView& t : tests) coloured &= t.colours.size() == t.points.size();
   std::cerr << "db_scale_bench: " << tests.size() << " test views"
             << (coloured ? " with colours" : " (some without colour)") << " in "
             << fmt(ms_since(t0) / 1000) << " s\n";
 
-  // One database, grown from size to size: each is the previous one plus the next objects'
-  // views, so the smaller databases are prefixes of the larger ones.
+  // One database file, grown from size to size: each is the previous one plus the next objects'
+  // views, so the smaller databases are prefixes of the larger ones. The rows read it as a
+  // program does (opened, each view read when first shortlisted).
   const proxseg::DescriptorParams descriptor;
   proxseg::Database db;
-  db.descriptor = descriptor;
   int built = 0;  // objects in db
   std::vector<Row> rows;
-  cli::Progress progress(sizes.size() * (tests.size() + all_tests));
+  std::vector<ProcessRow> process_rows;
+  const auto every_sizes =
+      std::count_if(sizes.begin(), sizes.end(), [&](int n) { return n <= o.all_max_views; });
+  cli::Progress progress(sizes.size() * tests.size() + every_sizes * all_tests);
   for (int size : sizes) {
     t0 = Clock::now();
     const int n_objects = size / o.views;
-    proxseg::Database part = proxseg::render_database(
-        std::vector<TestObject>(objects.begin() + built, objects.begin() + n_objects), o.views,
-        descriptor);
-    for (proxseg::ModelView& v : part.views) db.views.push_back(std::move(v));  // no copies
+    {
+      const proxseg::Database part = proxseg::render_database(
+          std::vector<TestObject>(objects.begin() + built, objects.begin() + n_objects), o.views,
+          descriptor);
+      proxseg::write_database(part, db_dir.string());
+    }
+    db = proxseg::load_database(db_dir.string());
     built = n_objects;
     std::cerr << "db_scale_bench: database of " << db.views.size() << " views (" << n_objects
-              << " objects): " << fmt(ms_since(t0) / 1000) << " s to render and describe the "
-              << part.views.size() << " views added\n";
+              << " objects): " << fmt(ms_since(t0) / 1000) << " s to render, describe and store "
+              << "the views added\n";
+    if (!test_files.empty()) {
+      process_rows.push_back(measure_processes(self, tools, db_dir.string(), test_files,
+                                               test_truths, rp.min_score, out));
+      const ProcessRow& p = process_rows.back();
+      std::cerr << "db_scale_bench: " << p.views << " views, " << fmt(p.file_mb, 0) << " MB: open "
+                << fmt(p.open_ms, 1) << " ms, " << fmt(p.open_rss_mb, 0)
+                << " MB; recognize --object " << fmt(p.wall_s, 2) << " s wall, " << fmt(p.cpu_s, 2)
+                << " s CPU, " << fmt(p.rss_mb, 0) << " MB, TP " << p.tp << "/" << p.tests << "\n";
+    }
     int lookalikes = 0;
     for (int j = 0; j < n_objects - n_tested; ++j)
       lookalikes += extra_objects[j].kind == "look-alike";
     for (const proxseg::RecognitionParams* p : {&rp, &every}) {
       const int n = p == &rp ? static_cast<int>(tests.size()) : all_tests;
-      if (n == 0) continue;
+      if (n == 0 || (p == &every && size > o.all_max_views)) continue;
       Row r;
       r.views = static_cast<int>(db.views.size());
       r.objects = n_objects;
@@ -575,6 +762,18 @@ int run(const Options& o) {
     summary["cost_ratio_every_view"] = ratio_every;
   }
 
+  summary["processes"] = nlohmann::json::array();
+  for (const ProcessRow& p : process_rows)
+    summary["processes"].push_back({{"views", p.views},
+                                    {"file_mb", p.file_mb},
+                                    {"open_ms", p.open_ms},
+                                    {"open_rss_mb", p.open_rss_mb},
+                                    {"object_wall_s", p.wall_s},
+                                    {"object_cpu_s", p.cpu_s},
+                                    {"object_rss_mb", p.rss_mb},
+                                    {"tests", p.tests},
+                                    {"tp", p.tp}});
+
   // The report.
   std::ostringstream md;
   int n_box = 0, n_cylinder = 0, n_lookalike = 0;
@@ -635,6 +834,28 @@ int run(const Options& o) {
                ? "; every view: " + fmt(ratio_every, 2)
                : std::string())
        << ".\n";
+  if (!process_rows.empty()) {
+    const ProcessRow& base = process_rows.front();
+    md << "\n### The database file, one process per question\n\n"
+       << "Each size stored in one database file (`proxseg db` format, docs/database.md). Open: "
+          "a fresh process runs load_database() (median of 5; RSS: the process's peak after "
+          "opening, libraries included). recognize --object: `proxseg recognize --object TEST "
+          "--db DB --json --threads 2` on the first "
+       << base.tests
+       << " test views (as PCD files with their colours), one process each: median wall and "
+          "CPU (user + system) from spawn to exit, the largest peak RSS, and the answers named "
+          "right (TP, min_score "
+       << fmt(m, 2) << ").\n\n"
+       << "| views | file (MB) | open (ms) | RSS after open (MB) | recognize --object wall (s) | "
+          "x smallest | CPU (s) | x smallest | peak RSS (MB) | TP |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const ProcessRow& p : process_rows)
+      md << "| " << p.views << " | " << fmt(p.file_mb, 0) << " | " << fmt(p.open_ms, 1) << " | "
+         << fmt(p.open_rss_mb, 0) << " | " << fmt(p.wall_s, 2) << " | "
+         << fmt(p.wall_s / base.wall_s, 2) << " | " << fmt(p.cpu_s, 2) << " | "
+         << fmt(p.cpu_s / base.cpu_s, 2) << " | " << fmt(p.rss_mb, 0) << " | " << p.tp << "/"
+         << p.tests << " |\n";
+  }
   if (all_tests > 0) {
     md << "\n### Shortlist against every view, on the same first " << all_tests << " tests\n\n"
        << "| views | TP shortlist / every view (%) | FP (%) | unknown (%) | pose ok (%) | ms "

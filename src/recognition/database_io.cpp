@@ -205,7 +205,7 @@ ModelView stored_view(const std::shared_ptr<DatabaseFile>& file, std::int64_t re
   v.coloured = coloured;
   v.viewpoint = summary.viewpoint;
   v.signature = summary.signature;
-  v.parts_reach = summary.parts_reach;
+  v.part_sketches = summary.part_sketches;
   const std::string where = where_of(file->sql.path(), v.name, record);
   v.parts = std::make_shared<const Lazy<std::vector<Signature>>>(
       std::function<std::vector<Signature>()>([file, record, where] {
@@ -312,7 +312,7 @@ void ensure_settings(Sqlite& sql, const DescriptorParams& descriptor) {
 
 // Writes one view's records; its record number. Inside a write.
 std::int64_t insert_view(Sqlite& sql, const ModelView& v, const std::string& body) {
-  const detail::ViewSummary summary{v.viewpoint, v.signature, v.parts_reach};
+  const detail::ViewSummary summary{v.viewpoint, v.signature, v.part_sketches};
   Statement row(sql,
                 "INSERT INTO views(object, name, source, points, coloured, summary) "
                 "VALUES (?, ?, ?, ?, ?, ?)");

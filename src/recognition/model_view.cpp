@@ -2,20 +2,8 @@
 #include <proxseg/recognition/registration.hpp>
 
 #include <algorithm>
-#include <limits>
 
 namespace proxseg {
-
-double parts_reach(const Signature& whole, const std::vector<Signature>& parts) {
-  double reach = 0;
-  for (const Signature& p : parts) {
-    // signature_distance() leaves the spread term out for a zero spread, and is then no metric:
-    // no bound.
-    if (!(p.spread > 0) || !(whole.spread > 0)) return std::numeric_limits<double>::infinity();
-    reach = std::max(reach, signature_distance(whole, p));
-  }
-  return reach;
-}
 
 ModelView make_model_view(std::string object, Cloud cloud, std::string source, std::string name) {
   add_part_signatures(cloud);
@@ -29,7 +17,10 @@ ModelView make_model_view(std::string object, Cloud cloud, std::string source, s
   std::vector<Signature> parts = std::move(cloud.signature.parts);
   cloud.signature.parts.clear();
   v.signature = cloud.signature;
-  v.parts_reach = parts_reach(v.signature, parts);
+  if (!parts.empty()) {
+    v.part_sketches.resize(sketch_of(parts[0]).size(), static_cast<Eigen::Index>(parts.size()));
+    for (std::size_t k = 0; k < parts.size(); ++k) v.part_sketches.col(k) = sketch_of(parts[k]);
+  }
   v.parts = std::make_shared<const Lazy<std::vector<Signature>>>(std::move(parts));
   v.described = std::make_shared<const Lazy<Cloud>>(std::move(cloud));
   return v;

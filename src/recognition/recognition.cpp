@@ -85,9 +85,20 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 
 namespace {
 
-// Floating-point slack of the triangle inequality behind parts_reach (distances are sums of
-// about 130 float differences, each exact to ~1e-7).
-constexpr double kBoundSlack = 1e-6;
+// Floating-point slack of sketch_distance() as a bound (signature_distance() sums about 130
+// float differences in float arithmetic, the sketch holds the spread as a float).
+constexpr double kBoundSlack = 1e-4;
+
+// The least sketch_distance() from the candidate to the view's parts, and the view's own
+// distance: at most its view_distance().
+double parts_bound(const Eigen::VectorXf& candidate, bool coloured, const ModelView& view,
+                   double whole, Eigen::Index shape_bins) {
+  double d = whole;
+  for (Eigen::Index k = 0; k < view.part_sketches.cols(); ++k)
+    d = std::min(d, sketch_distance(candidate, view.part_sketches.col(k), shape_bins, coloured,
+                                    view.coloured));
+  return d;
+}
 
 using Ranked = std::vector<std::pair<double, int>>;  // (distance, view), nearest first
 
@@ -131,6 +142,9 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
                                  const std::vector<std::string>& objects, bool parts,
                                  std::vector<std::string>* damaged) {
   Ranked bounds;  // (a lower bound of the view's distance, view)
+  const Eigen::VectorXf sketch = sketch_of(candidate.signature);
+  const bool coloured = candidate.signature.colour.size() > 0;
+  const Eigen::Index shape_bins = candidate.signature.shape.size();
   std::vector<double> whole(db.views.size(), 0.0);
   for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
     const ModelView& view = db.views[v];
@@ -138,7 +152,10 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
       continue;
     if (shortlist > 0) whole[v] = signature_distance(candidate.signature, view.signature);
     bounds.emplace_back(
-        shortlist > 0 && parts ? whole[v] - view.parts_reach - kBoundSlack : whole[v], v);
+        shortlist > 0 && parts
+            ? parts_bound(sketch, coloured, view, whole[v], shape_bins) - kBoundSlack
+            : whole[v],
+        v);
   }
   // Ties (and the whole order without a shortlist) go by view index.
   std::sort(bounds.begin(), bounds.end());

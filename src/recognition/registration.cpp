@@ -674,6 +674,40 @@ double signature_distance(const Signature& a, const Signature& b) {
   return d;
 }
 
+namespace {
+
+constexpr int kSubBins = 11;     // an FPFH sub-histogram (three per 33-bin block)
+constexpr int kSketchSub = 6;    // its bins summed in pairs: 2, 2, 2, 2, 2, 1
+constexpr int kColourCells = 8;  // signature_of()'s colour grid, sketched 4 x 4
+
+}  // namespace
+
+Eigen::VectorXf sketch_of(const Signature& s) {
+  const Eigen::Index subs = s.shape.size() / kSubBins;
+  const Eigen::Index colour = s.colour.size() ? 16 : 0;
+  Eigen::VectorXf out = Eigen::VectorXf::Zero(subs * kSketchSub + colour + 1);
+  for (Eigen::Index h = 0; h < subs; ++h)
+    for (int i = 0; i < kSubBins; ++i) out[h * kSketchSub + i / 2] += s.shape[h * kSubBins + i];
+  for (int y = 0; colour && y < kColourCells; ++y)
+    for (int x = 0; x < kColourCells; ++x)
+      out[subs * kSketchSub + (y / 2) * 4 + x / 2] += s.colour[y * kColourCells + x];
+  out[out.size() - 1] = static_cast<float>(s.spread);
+  return out;
+}
+
+double sketch_distance(const Eigen::VectorXf& a, const Eigen::VectorXf& b, Eigen::Index shape_bins,
+                       bool a_coloured, bool b_coloured) {
+  // Mirrors signature_distance() term by term.
+  const Eigen::Index shape = shape_bins / kSubBins * kSketchSub;
+  double d = 0;
+  if (shape > 0) d += (a.head(shape) - b.head(shape)).lpNorm<1>() / 2.0 / (shape_bins / kFpfhBins);
+  if (a_coloured && b_coloured)
+    d += (a.segment(shape, 16) - b.segment(shape, 16)).lpNorm<1>() / 2.0;
+  const double sa = a[a.size() - 1], sb = b[b.size() - 1];
+  if (sa > 0 && sb > 0) d += std::abs(std::log(sa / sb));
+  return d;
+}
+
 double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose, double delta,
                double* rmse) {
   const Eigen::Matrix4d inv = pose.inverse();

@@ -1,6 +1,8 @@
 #include "sqlite.hpp"
 
 #include <sqlite3.h>
+
+#include <cstring>
 #include <proxseg/core/frame.hpp>
 
 namespace proxseg::detail {
@@ -90,6 +92,10 @@ Sqlite::Sqlite(const std::string& path, Mode mode) : path_(path) {
   sqlite3_extended_result_codes(db, 1);
   // Checks that the file is a SQLite database at all (the first read of the header), and makes
   // it WAL: readers and a writer never wait for each other, a crash leaves the last commit.
+  if (mode == Mode::kCreate)  // a new file only; no effect on one that has pages
+    // 64 KB pages: the views table (600 bytes a view) in few pages, so opening reads 4,096 views
+    // in ~40 reads instead of ~700, and a view's body (~250 KB) in 4 pages instead of 62.
+    exec("PRAGMA page_size=65536", "creating it");
   if (mode != Mode::kRead) {
     exec("PRAGMA journal_mode=WAL", "opening it");
     exec("PRAGMA synchronous=FULL", "opening it");
@@ -110,10 +116,10 @@ void Sqlite::exec(const std::string& sql, const std::string& doing) {
 }
 
 void Sqlite::write(const std::function<void()>& f) {
-  exec("BEGIN IMMEDIATE");
+  exec("BEGIN IMMEDIATE", "waiting to write");
   try {
     f();
-    exec("COMMIT");
+    exec("COMMIT", "committing (the change is not in the database; what was there is kept)");
   } catch (...) {
     sqlite3_exec(db_of(db_), "ROLLBACK", nullptr, nullptr, nullptr);
     throw;
@@ -136,7 +142,11 @@ std::int64_t Sqlite::last_insert_rowid() const {
 }
 
 void Sqlite::fail(int rc, const std::string& doing) const {
-  const std::string why = db_ ? sqlite3_errmsg(db_of(db_)) : sqlite3_errstr(rc);
+  std::string why = db_ ? sqlite3_errmsg(db_of(db_)) : sqlite3_errstr(rc);
+  // What the system said, when it said something (a write refused: "File too large").
+  if (const int e = db_ ? sqlite3_system_errno(db_of(db_)) : 0;
+      e != 0 && (rc & 0xff) != SQLITE_BUSY)
+    why += ": " + std::string(std::strerror(e));
   switch (rc & 0xff) {
     case SQLITE_FULL:
       throw FileError(path_ + ": the disk is full (" + why + "); the database is as it was");

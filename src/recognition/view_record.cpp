@@ -93,10 +93,13 @@ constexpr std::uint32_t kMaxBins = 1 << 16;  // far above 33 x radii + 64 colour
 std::string encode_summary(const ViewSummary& s) {
   std::string out;
   for (int k = 0; k < 3; ++k) put(out, s.viewpoint[k]);
-  put(out, s.parts_reach);
   put(out, static_cast<std::uint32_t>(s.signature.shape.size()));
   put(out, static_cast<std::uint32_t>(s.signature.colour.size()));
   put_signature(out, s.signature);
+  put(out, static_cast<std::uint32_t>(s.part_sketches.rows()));
+  put(out, static_cast<std::uint32_t>(s.part_sketches.cols()));
+  out.append(reinterpret_cast<const char*>(s.part_sketches.data()),
+             sizeof(float) * s.part_sketches.size());
   return sealed(std::move(out));
 }
 
@@ -104,12 +107,13 @@ ViewSummary decode_summary(const std::string& where, const std::string& bytes) {
   Reader in(where, bytes, "summary");
   ViewSummary s;
   for (int k = 0; k < 3; ++k) s.viewpoint[k] = in.get<double>();
-  s.parts_reach = in.get<double>();
-  if (!(s.parts_reach >= 0) || !std::isfinite(s.parts_reach))
-    in.damaged("parts_reach is not a distance");
   const auto shape = in.get<std::uint32_t>(), colour = in.get<std::uint32_t>();
   if (shape > kMaxBins || colour > kMaxBins) in.damaged("implausible signature sizes");
   s.signature = get_signature(in, shape, colour);
+  const auto rows = in.get<std::uint32_t>(), cols = in.get<std::uint32_t>();
+  if (rows > kMaxBins || cols > 1024) in.damaged("implausible sketch sizes");
+  const Eigen::VectorXf sketches = in.floats(std::size_t(rows) * cols);
+  s.part_sketches = Eigen::Map<const Eigen::MatrixXf>(sketches.data(), rows, cols);
   in.finish();
   return s;
 }

@@ -1,6 +1,6 @@
 // The bytes of a stored view (docs/database.md, "Records"): three records per view, each ending
 // in its checksum (util/checksum.hpp), so that a damaged one is told and confined to its view:
-//   summary  what opening reads: viewpoint, the whole view's signature, parts_reach;
+//   summary  what opening reads: viewpoint, the whole view's signature, its parts' sketches;
 //   parts    the parts' signatures, read when the shortlist needs them;
 //   body     points, normals, FPFH and colours, read when the shortlist picks the view.
 // Floats little-endian, as the machines proxseg runs on (the format is checked at open).
@@ -15,7 +15,7 @@ namespace proxseg::detail {
 struct ViewSummary {
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
   Signature signature;
-  double parts_reach = 0;
+  Eigen::MatrixXf part_sketches;
 };
 
 std::string encode_summary(const ViewSummary& s);

@@ -8,10 +8,6 @@
 
 namespace proxseg {
 
-// The largest signature_distance() from a view's signature to one of its parts' (0 without
-// parts): ModelView::parts_reach.
-double parts_reach(const Signature& whole, const std::vector<Signature>& parts);
-
 // A view of `object` held in memory (record 0): the cloud as described (describe() or
 // restore()), its part signatures added. `name` defaults to object + its position.
 ModelView make_model_view(std::string object, Cloud cloud, std::string source,

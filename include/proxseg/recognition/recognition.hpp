@@ -45,9 +45,9 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 // The views recognize() aligns: those of `objects` (every object when empty), the `shortlist`
 // nearest to the candidate by signature (all when 0; with `parts`, by view_distance(), the
 // nearest of each view's signature and its parts' ones), nearest first, and the nearest view of
-// another object when those show only one. A view's parts are read only when its whole
-// signature, less ModelView::parts_reach, still lets it in; a view whose parts record is damaged
-// is left out and named in `damaged`.
+// another object when those show only one. A view's parts are read only when its part sketches
+// (ModelView::part_sketches) still let it in; a view whose parts record is damaged is left out
+// and named in `damaged`.
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
                                  const std::vector<std::string>& objects = {}, bool parts = true,
                                  std::vector<std::string>* damaged = nullptr);

@@ -20,6 +20,16 @@ double signature_distance(const Signature& a, const Signature& b);
 // views it is part of.
 double view_distance(const Signature& candidate, const Signature& view);
 
+// A signature's sketch: its shape histogram with neighbouring bins summed in pairs (within each
+// 11-bin FPFH sub-histogram), its colour histogram over 4 x 4 cells instead of 8 x 8, then its
+// spread; a tenth of the size. An L1 distance only shrinks when bins are summed, so
+// sketch_distance() of two sketches is at most signature_distance() of their signatures: a bound
+// that lets the shortlist skip reading the parts of most views [docs/database.md]. colour_bins:
+// the colour histogram's size in the signature (64, or 0 without colour).
+Eigen::VectorXf sketch_of(const Signature& s);
+double sketch_distance(const Eigen::VectorXf& a, const Eigen::VectorXf& b, Eigen::Index shape_bins,
+                       bool a_coloured, bool b_coloured);
+
 // The deterministic voxel-grid filter: one point (the mean) per occupied cell, in cell order;
 // non-finite points are dropped. With colours, out_colours gets each cell's mean colour.
 std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& points,
