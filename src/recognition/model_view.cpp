@@ -17,10 +17,7 @@ ModelView make_model_view(std::string object, Cloud cloud, std::string source, s
   std::vector<Signature> parts = std::move(cloud.signature.parts);
   cloud.signature.parts.clear();
   v.signature = cloud.signature;
-  if (!parts.empty()) {
-    v.part_sketches.resize(sketch_of(parts[0]).size(), static_cast<Eigen::Index>(parts.size()));
-    for (std::size_t k = 0; k < parts.size(); ++k) v.part_sketches.col(k) = sketch_of(parts[k]);
-  }
+  v.part_sketches = sketch_set(parts);
   v.parts = std::make_shared<const Lazy<std::vector<Signature>>>(std::move(parts));
   v.described = std::make_shared<const Lazy<Cloud>>(std::move(cloud));
   return v;

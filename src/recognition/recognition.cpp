@@ -86,7 +86,7 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 namespace {
 
 // Floating-point slack of sketch_distance() as a bound (signature_distance() sums about 130
-// float differences in float arithmetic, the sketch holds the spread as a float).
+// float differences in float arithmetic, a sketch holds the spread as a float).
 constexpr double kBoundSlack = 1e-4;
 
 // The least sketch_distance() from the candidate to the view's parts, and the view's own
@@ -94,9 +94,9 @@ constexpr double kBoundSlack = 1e-4;
 double parts_bound(const Eigen::VectorXf& candidate, bool coloured, const ModelView& view,
                    double whole, Eigen::Index shape_bins) {
   double d = whole;
-  for (Eigen::Index k = 0; k < view.part_sketches.cols(); ++k)
-    d = std::min(d, sketch_distance(candidate, view.part_sketches.col(k), shape_bins, coloured,
-                                    view.coloured));
+  for (Eigen::Index k = 0; k < view.part_sketches.size(); ++k)
+    d = std::min(
+        d, sketch_distance(candidate, view.part_sketches, k, shape_bins, coloured, view.coloured));
   return d;
 }
 

@@ -676,9 +676,10 @@ double signature_distance(const Signature& a, const Signature& b) {
 
 namespace {
 
-constexpr int kSubBins = 11;     // an FPFH sub-histogram (three per 33-bin block)
-constexpr int kSketchSub = 6;    // its bins summed in pairs: 2, 2, 2, 2, 2, 1
-constexpr int kColourCells = 8;  // signature_of()'s colour grid, sketched 4 x 4
+constexpr int kSubBins = 11;             // an FPFH sub-histogram (three per 33-bin block)
+constexpr int kSketchSub = 6;            // its bins summed in pairs: 2, 2, 2, 2, 2, 1
+constexpr int kColourCells = 8;          // signature_of()'s colour grid, sketched 4 x 4
+constexpr double kSketchLevels = 65535;  // SketchSet's quantisation
 
 }  // namespace
 
@@ -695,15 +696,45 @@ Eigen::VectorXf sketch_of(const Signature& s) {
   return out;
 }
 
-double sketch_distance(const Eigen::VectorXf& a, const Eigen::VectorXf& b, Eigen::Index shape_bins,
-                       bool a_coloured, bool b_coloured) {
+SketchSet sketch_set(const std::vector<Signature>& signatures) {
+  SketchSet set;
+  if (signatures.empty()) return set;
+  const Eigen::Index bins = sketch_of(signatures[0]).size() - 1;
+  set.bins.resize(bins, static_cast<Eigen::Index>(signatures.size()));
+  set.spreads.resize(static_cast<Eigen::Index>(signatures.size()));
+  for (std::size_t k = 0; k < signatures.size(); ++k) {
+    const Eigen::VectorXf sketch = sketch_of(signatures[k]);
+    for (Eigen::Index i = 0; i < bins; ++i)
+      set.bins(i, k) = static_cast<std::uint16_t>(
+          std::lround(std::clamp(sketch[i], 0.0f, 1.0f) * kSketchLevels));
+    set.spreads[k] = sketch[bins];
+  }
+  return set;
+}
+
+namespace {
+
+// L1 distance from x to the values that quantised bins stand for: each bin q holds a value
+// within half a step of q / kSketchLevels.
+double to_quantised(const float* x, const std::uint16_t* q, Eigen::Index n) {
+  constexpr double kStep = 1.0 / kSketchLevels;
+  double d = 0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    d += std::max(0.0, std::abs(x[i] - q[i] * kStep) - kStep / 2);
+  return d;
+}
+
+}  // namespace
+
+double sketch_distance(const Eigen::VectorXf& a, const SketchSet& set, Eigen::Index k,
+                       Eigen::Index shape_bins, bool a_coloured, bool set_coloured) {
   // Mirrors signature_distance() term by term.
   const Eigen::Index shape = shape_bins / kSubBins * kSketchSub;
+  const std::uint16_t* q = set.bins.col(k).data();
   double d = 0;
-  if (shape > 0) d += (a.head(shape) - b.head(shape)).lpNorm<1>() / 2.0 / (shape_bins / kFpfhBins);
-  if (a_coloured && b_coloured)
-    d += (a.segment(shape, 16) - b.segment(shape, 16)).lpNorm<1>() / 2.0;
-  const double sa = a[a.size() - 1], sb = b[b.size() - 1];
+  if (shape > 0) d += to_quantised(a.data(), q, shape) / 2.0 / (shape_bins / kFpfhBins);
+  if (a_coloured && set_coloured) d += to_quantised(a.data() + shape, q + shape, 16) / 2.0;
+  const double sa = a[a.size() - 1], sb = set.spreads[k];
   if (sa > 0 && sb > 0) d += std::abs(std::log(sa / sb));
   return d;
 }

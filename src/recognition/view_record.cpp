@@ -96,10 +96,11 @@ std::string encode_summary(const ViewSummary& s) {
   put(out, static_cast<std::uint32_t>(s.signature.shape.size()));
   put(out, static_cast<std::uint32_t>(s.signature.colour.size()));
   put_signature(out, s.signature);
-  put(out, static_cast<std::uint32_t>(s.part_sketches.rows()));
-  put(out, static_cast<std::uint32_t>(s.part_sketches.cols()));
-  out.append(reinterpret_cast<const char*>(s.part_sketches.data()),
-             sizeof(float) * s.part_sketches.size());
+  const SketchSet& k = s.part_sketches;
+  put(out, static_cast<std::uint32_t>(k.bins.rows()));
+  put(out, static_cast<std::uint32_t>(k.size()));
+  out.append(reinterpret_cast<const char*>(k.bins.data()), sizeof(std::uint16_t) * k.bins.size());
+  put_floats(out, k.spreads);
   return sealed(std::move(out));
 }
 
@@ -112,8 +113,11 @@ ViewSummary decode_summary(const std::string& where, const std::string& bytes) {
   s.signature = get_signature(in, shape, colour);
   const auto rows = in.get<std::uint32_t>(), cols = in.get<std::uint32_t>();
   if (rows > kMaxBins || cols > 1024) in.damaged("implausible sketch sizes");
-  const Eigen::VectorXf sketches = in.floats(std::size_t(rows) * cols);
-  s.part_sketches = Eigen::Map<const Eigen::MatrixXf>(sketches.data(), rows, cols);
+  SketchSet& k = s.part_sketches;
+  k.bins.resize(rows, cols);
+  std::memcpy(k.bins.data(), in.span(sizeof(std::uint16_t) * rows * cols),
+              sizeof(std::uint16_t) * rows * cols);
+  k.spreads = in.floats(cols);
   in.finish();
   return s;
 }

@@ -15,7 +15,7 @@ namespace proxseg::detail {
 struct ViewSummary {
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
   Signature signature;
-  Eigen::MatrixXf part_sketches;
+  SketchSet part_sketches;
 };
 
 std::string encode_summary(const ViewSummary& s);

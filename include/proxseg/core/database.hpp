@@ -27,11 +27,11 @@ struct ModelView {
   bool coloured = false;    // the cloud has colours (recognition compares them)
   // The sensor in the model frame; NaN for a full model (seen from everywhere).
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
-  // The whole view's signature (parts empty), and its parts' sketches (sketch_of(), one column
-  // per part): sketch_distance() is at most the part's signature_distance(), which lets the
-  // shortlist skip reading the parts of views that cannot enter it.
+  // The whole view's signature (parts empty), and its parts' sketches: sketch_distance() is at
+  // most the part's signature_distance(), which lets the shortlist skip reading the parts of
+  // views that cannot enter it.
   Signature signature;
-  Eigen::MatrixXf part_sketches;
+  SketchSet part_sketches;
   std::shared_ptr<const Lazy<std::vector<Signature>>> parts;  // the parts' signatures
   std::shared_ptr<const Lazy<Cloud>> described;  // points in the model frame, normals, FPFH, ...
 

@@ -90,6 +90,15 @@ struct Signature {
   // Database views only: a candidate is compared with them, not they with it.
   std::vector<Signature> parts;
 };
+// Several signatures' sketches (sketch_of(), registration.hpp) as a database view keeps its
+// parts' in memory: 16 bits per bin (the bin's value x 65535, rounded; every bin lies in [0, 1])
+// and the spread.
+struct SketchSet {
+  Eigen::Matrix<std::uint16_t, Eigen::Dynamic, Eigen::Dynamic> bins;  // one column per signature
+  Eigen::VectorXf spreads;
+  Eigen::Index size() const { return spreads.size(); }
+};
+
 // A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
 // its viewpoint, FPFH features (one column per point) and search indexes.
 struct SearchIndex;  // point grid and feature matrices (src/recognition/registration.cpp)

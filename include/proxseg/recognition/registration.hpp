@@ -22,13 +22,15 @@ double view_distance(const Signature& candidate, const Signature& view);
 
 // A signature's sketch: its shape histogram with neighbouring bins summed in pairs (within each
 // 11-bin FPFH sub-histogram), its colour histogram over 4 x 4 cells instead of 8 x 8, then its
-// spread; a tenth of the size. An L1 distance only shrinks when bins are summed, so
-// sketch_distance() of two sketches is at most signature_distance() of their signatures: a bound
-// that lets the shortlist skip reading the parts of most views [docs/database.md]. colour_bins:
-// the colour histogram's size in the signature (64, or 0 without colour).
+// spread. An L1 distance only shrinks when bins are summed, so sketch_distance() from a
+// candidate's sketch to a signature's (kept quantised, SketchSet) is at most signature_distance()
+// of the signatures: a bound that lets the shortlist skip reading the parts of most views
+// [docs/database.md]. shape_bins: the signatures' shape histogram size; coloured: whether the
+// candidate and the set's signatures have colour histograms.
 Eigen::VectorXf sketch_of(const Signature& s);
-double sketch_distance(const Eigen::VectorXf& a, const Eigen::VectorXf& b, Eigen::Index shape_bins,
-                       bool a_coloured, bool b_coloured);
+SketchSet sketch_set(const std::vector<Signature>& signatures);
+double sketch_distance(const Eigen::VectorXf& candidate, const SketchSet& set, Eigen::Index k,
+                       Eigen::Index shape_bins, bool candidate_coloured, bool set_coloured);
 
 // The deterministic voxel-grid filter: one point (the mean) per occupied cell, in cell order;
 // non-finite points are dropped. With colours, out_colours gets each cell's mean colour.
