@@ -309,6 +309,7 @@ struct Extra {
   int views_aligned = 0;
   std::string best, runner_up;  // best view's object before thresholds, and the runner-up's
   bool truth_shortlisted = false;
+  int best_rank = 0;  // the best view's place in the shortlist, 1 = nearest by signature
   double recognize_ms = 0;
 };
 
@@ -341,10 +342,15 @@ std::pair<Answer, Extra> recognise(const TestView& t, const std::string& truth,
     e.views_aligned = r.views_aligned;
     e.best = r.best.object;
     e.runner_up = r.runner_up.object;
-    // Untimed: did the shortlist hold a view of the right object at all?
-    if (rp.shortlist > 0)
-      for (int v : proxseg::shortlist_views(c, db, rp.shortlist))
-        e.truth_shortlisted |= db.views[v].object == truth;
+    // Untimed: did the shortlist hold a view of the right object at all, and where was the
+    // view that won?
+    if (rp.shortlist > 0) {
+      const std::vector<int> shortlist = proxseg::shortlist_views(c, db, rp.shortlist);
+      for (std::size_t k = 0; k < shortlist.size(); ++k) {
+        e.truth_shortlisted |= db.views[shortlist[k]].object == truth;
+        if (shortlist[k] == r.best.view) e.best_rank = static_cast<int>(k) + 1;
+      }
+    }
   } catch (const InputError&) {
     a.ms = ms_since(t0);  // too few points to describe: no answer
   }
@@ -424,19 +430,21 @@ struct ProcessRow {
   int views = 0;
   double file_mb = 0, open_ms = 0, open_rss_mb = 0;
   double wall_s = 0, cpu_s = 0, rss_mb = 0;  // recognize --object: medians, peak RSS the largest
+  // Medians of the ratios to the smallest database's process run just before each (paired: the
+  // sizes are minutes apart on a shared machine, whose speed drifts in between).
+  double wall_ratio = 1, cpu_ratio = 1;
   int tests = 0, tp = 0;
 };
 
+// first_dir: the smallest database, whose runs pair with this one's (empty for it).
 ProcessRow measure_processes(const std::string& self, const std::string& tools,
-                             const std::string& dir, const std::vector<std::string>& test_files,
+                             const std::string& dir, const std::string& first_dir,
+                             const std::vector<std::string>& test_files,
                              const std::vector<std::string>& truths, double min_score,
                              const fs::path& scratch) {
   ProcessRow row;
   std::error_code ec;
-  for (const char* suffix : {"", "-wal"})  // the WAL while this process has the file open
-    row.file_mb +=
-        fs::file_size(fs::path(dir) / (std::string(proxseg::kDatabaseFile) + suffix), ec) / 1e6 *
-        !ec;
+  row.file_mb = fs::file_size(fs::path(dir) / proxseg::kDatabaseFile, ec) / 1e6;
   std::vector<double> open_ms;
   for (int i = 0; i < 5; ++i) {
     const ProcessRun r = run_process({self, "--open", dir}, (scratch / "open.json").string());
@@ -447,11 +455,15 @@ ProcessRow measure_processes(const std::string& self, const std::string& tools,
     row.open_rss_mb = std::max(row.open_rss_mb, j["rss_mb"].get<double>());
   }
   row.open_ms = median(open_ms);
-  std::vector<double> wall, cpu;
-  for (std::size_t i = 0; i < test_files.size(); ++i) {
-    const ProcessRun r = run_process(
-        {tools, "recognize", "--object", test_files[i], "--db", dir, "--json", "--threads", "2"},
+  std::vector<double> wall, cpu, wall_ratio, cpu_ratio;
+  const auto object = [&](const std::string& db, const std::string& test) {
+    return run_process(
+        {tools, "recognize", "--object", test, "--db", db, "--json", "--threads", "2"},
         (scratch / "object.json").string());
+  };
+  for (std::size_t i = 0; i < test_files.size(); ++i) {
+    const ProcessRun first = first_dir.empty() ? ProcessRun{} : object(first_dir, test_files[i]);
+    const ProcessRun r = object(dir, test_files[i]);
     if (r.code != 0) throw InputError(tools + " recognize --object " + test_files[i] + " failed");
     const nlohmann::json j = nlohmann::json::parse(r.out);
     const nlohmann::json& c = j["candidates"][0];
@@ -459,6 +471,10 @@ ProcessRow measure_processes(const std::string& self, const std::string& tools,
     row.tp += c["name"] == truths[i] && c["score"].get<double>() >= min_score;
     wall.push_back(r.wall_s);
     cpu.push_back(r.cpu_s);
+    if (!first_dir.empty()) {
+      wall_ratio.push_back(r.wall_s / first.wall_s);
+      cpu_ratio.push_back(r.cpu_s / first.cpu_s);
+    }
     const ProcessRun peak = run_process({self, "--open", dir, "--object", test_files[i]},
                                         (scratch / "object-rss.json").string());
     if (peak.code != 0) throw InputError(dir + ": recognising in a child process failed");
@@ -467,6 +483,10 @@ ProcessRow measure_processes(const std::string& self, const std::string& tools,
   }
   row.wall_s = median(wall);
   row.cpu_s = median(cpu);
+  if (!first_dir.empty()) {
+    row.wall_ratio = median(wall_ratio);
+    row.cpu_ratio = median(cpu_ratio);
+  }
   return row;
 }
 
@@ -598,6 +618,9 @@ int run(const Options& o) {
       const proxseg::Database part = proxseg::render_database(
           std::vector<TestObject>(objects.begin() + built, objects.begin() + n_objects), o.views,
           descriptor);
+      // Closed first: the write's connection is then the last one, and folds its write-ahead
+      // log into the file when it closes (the file's size is the database's).
+      db = proxseg::Database{};
       proxseg::write_database(part, db_dir.string());
     }
     db = proxseg::load_database(db_dir.string());
@@ -606,8 +629,16 @@ int run(const Options& o) {
               << " objects): " << fmt(ms_since(t0) / 1000) << " s to render, describe and store "
               << "the views added\n";
     if (!test_files.empty()) {
-      process_rows.push_back(measure_processes(self, tools, db_dir.string(), test_files,
-                                               test_truths, rp.min_score, out));
+      // The smallest database stays beside the grown one: the larger sizes' runs pair with it.
+      const fs::path first_dir = out / "db-smallest";
+      if (process_rows.empty()) {
+        fs::remove_all(first_dir, ec);
+        fs::create_directories(first_dir);
+        fs::copy_file(db_dir / proxseg::kDatabaseFile, first_dir / proxseg::kDatabaseFile);
+      }
+      process_rows.push_back(measure_processes(self, tools, db_dir.string(),
+                                               process_rows.empty() ? "" : first_dir.string(),
+                                               test_files, test_truths, rp.min_score, out));
       const ProcessRow& p = process_rows.back();
       std::cerr << "db_scale_bench: " << p.views << " views, " << fmt(p.file_mb, 0) << " MB: open "
                 << fmt(p.open_ms, 1) << " ms, " << fmt(p.open_rss_mb, 0)
@@ -647,7 +678,8 @@ int run(const Options& o) {
   const double m = rp.min_score;
   struct Summary {
     proxseg::Rates rates;
-    double describe_ms = 0, recognize_ms = 0, views_aligned = 0, best_right = 0, shortlisted = 0;
+    double describe_ms = 0, recognize_ms = 0, views_aligned = 0, best_right = 0, shortlisted = 0,
+           best_rank = 0;
     std::map<std::string, int> wrong, unknown_runner_up;
   };
   // Over the first n answers of a row.
@@ -665,6 +697,7 @@ int run(const Options& o) {
       s.views_aligned += e.views_aligned;
       s.best_right += e.best == truth;
       s.shortlisted += e.truth_shortlisted;
+      s.best_rank += e.best_rank;
       if (!a.best.empty() && a.score >= m && a.best != truth) ++s.wrong[a.best];
       if (a.best.empty() || a.score < m) {
         const std::string& in_the_way = e.best == truth ? e.runner_up : e.best;
@@ -672,8 +705,8 @@ int run(const Options& o) {
       }
     }
     if (n > 0)
-      for (double* x :
-           {&s.describe_ms, &s.recognize_ms, &s.views_aligned, &s.best_right, &s.shortlisted})
+      for (double* x : {&s.describe_ms, &s.recognize_ms, &s.views_aligned, &s.best_right,
+                        &s.shortlisted, &s.best_rank})
         *x /= static_cast<double>(n);
     return s;
   };
@@ -742,7 +775,10 @@ int run(const Options& o) {
         {"unknown_runner_up", counts_json(s.unknown_runner_up)},
         {"loadavg_before", r.load_before},
         {"loadavg_after", r.load_after}};
-    if (r.shortlist > 0) j["truth_shortlisted_rate"] = s.shortlisted;
+    if (r.shortlist > 0) {
+      j["truth_shortlisted_rate"] = s.shortlisted;
+      j["mean_best_view_rank"] = s.best_rank;
+    }
     summary["rows"].push_back(j);
   }
   // The acceptance: the cost of the largest database against the smallest, shortlist default.
@@ -771,6 +807,8 @@ int run(const Options& o) {
                                     {"object_wall_s", p.wall_s},
                                     {"object_cpu_s", p.cpu_s},
                                     {"object_rss_mb", p.rss_mb},
+                                    {"object_wall_ratio", p.wall_ratio},
+                                    {"object_cpu_ratio", p.cpu_ratio},
                                     {"tests", p.tests},
                                     {"tp", p.tp}});
 
@@ -808,11 +846,12 @@ int run(const Options& o) {
         "names another; unknown: it answers \"unknown\" (min_score or min_margin); pose ok: "
         "named right and within 2 cm and 10 degrees. Best view right: the best view's object "
         "before the thresholds. Shortlisted: a view of the right object was among the views "
-        "aligned. ms: describe + recognition, wall, per candidate.\n\n";
+        "aligned. Best view's rank: its place in the shortlist (1 = nearest by signature), "
+        "mean. ms: describe + recognition, wall, per candidate.\n\n";
   md << "| views | objects (look-alikes) | shortlist | tests | views aligned | ms / candidate | TP "
-        "(%) | FP (%) | unknown (%) | pose ok (%) | best view right (%) | shortlisted (%) | load "
-        "before / after |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "(%) | FP (%) | unknown (%) | pose ok (%) | best view right (%) | shortlisted (%) | best "
+        "view's rank | load before / after |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
     const Summary s = summarise(r, r.answers.size());
     md << "| " << r.views << " | " << r.objects << " (" << r.lookalikes << ") | "
@@ -822,6 +861,7 @@ int run(const Options& o) {
        << pct(s.rates.tests ? double(s.rates.unknown) / s.rates.tests : 0) << " | "
        << pct(s.rates.pose_rate()) << " | " << pct(s.best_right) << " | "
        << (r.shortlist > 0 ? pct(s.shortlisted) : "-") << " | "
+       << (r.shortlist > 0 ? fmt(s.best_rank, 1) : "-") << " | "
        << r.load_before.substr(0, r.load_before.find(' ')) << " / "
        << r.load_after.substr(0, r.load_after.find(' ')) << " |\n";
   }
@@ -845,16 +885,17 @@ int run(const Options& o) {
        << " test views (as PCD files with their colours), one process each: median wall and "
           "CPU (user + system) from spawn to exit, the largest peak RSS, and the answers named "
           "right (TP, min_score "
-       << fmt(m, 2) << ").\n\n"
+       << fmt(m, 2)
+       << "). x smallest: the median ratio to the smallest database's run of the same test just "
+          "before (paired, so that the machine's drift between sizes cancels).\n\n"
        << "| views | file (MB) | open (ms) | RSS after open (MB) | recognize --object wall (s) | "
           "x smallest | CPU (s) | x smallest | peak RSS (MB) | TP |\n"
        << "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const ProcessRow& p : process_rows)
       md << "| " << p.views << " | " << fmt(p.file_mb, 0) << " | " << fmt(p.open_ms, 1) << " | "
-         << fmt(p.open_rss_mb, 0) << " | " << fmt(p.wall_s, 2) << " | "
-         << fmt(p.wall_s / base.wall_s, 2) << " | " << fmt(p.cpu_s, 2) << " | "
-         << fmt(p.cpu_s / base.cpu_s, 2) << " | " << fmt(p.rss_mb, 0) << " | " << p.tp << "/"
-         << p.tests << " |\n";
+         << fmt(p.open_rss_mb, 0) << " | " << fmt(p.wall_s, 2) << " | " << fmt(p.wall_ratio, 2)
+         << " | " << fmt(p.cpu_s, 2) << " | " << fmt(p.cpu_ratio, 2) << " | " << fmt(p.rss_mb, 0)
+         << " | " << p.tp << "/" << p.tests << " |\n";
   }
   if (all_tests > 0) {
     md << "\n### Shortlist against every view, on the same first " << all_tests << " tests\n\n"

@@ -192,6 +192,22 @@ std::string record_bytes(DatabaseFile& f, const char* table, std::int64_t record
   });
 }
 
+// The parts and the body of a stored view, read and checked against its row.
+std::vector<Signature> read_parts(DatabaseFile& file, std::int64_t record,
+                                  const std::string& where) {
+  return detail::decode_parts(where, record_bytes(file, "parts", record, where));
+}
+
+Cloud read_body(DatabaseFile& file, std::int64_t record, const std::string& where,
+                std::size_t points, std::size_t dims, const Eigen::Vector3d& viewpoint,
+                bool coloured) {
+  Cloud c = detail::decode_body(where, record_bytes(file, "bodies", record, where), points, dims,
+                                viewpoint);
+  if (c.colours.empty() == coloured)
+    throw InputError(where + ": body record damaged: its colours disagree with its row");
+  return c;
+}
+
 // A stored view: its summary decoded, its parts and body read on first use.
 ModelView stored_view(const std::shared_ptr<DatabaseFile>& file, std::int64_t record,
                       std::string object, std::string name, std::string source, std::size_t points,
@@ -207,18 +223,13 @@ ModelView stored_view(const std::shared_ptr<DatabaseFile>& file, std::int64_t re
   v.signature = summary.signature;
   v.part_sketches = summary.part_sketches;
   const std::string where = where_of(file->sql.path(), v.name, record);
-  v.parts = std::make_shared<const Lazy<std::vector<Signature>>>(
-      std::function<std::vector<Signature>()>([file, record, where] {
-        return detail::decode_parts(where, record_bytes(*file, "parts", record, where));
-      }));
+  v.parts =
+      std::make_shared<const Lazy<std::vector<Signature>>>(std::function<std::vector<Signature>()>(
+          [file, record, where] { return read_parts(*file, record, where); }));
   const Eigen::Vector3d viewpoint = summary.viewpoint;
   v.described = std::make_shared<const Lazy<Cloud>>(
       std::function<Cloud()>([file, record, where, points, dims, viewpoint, coloured] {
-        Cloud c = detail::decode_body(where, record_bytes(*file, "bodies", record, where), points,
-                                      dims, viewpoint);
-        if (c.colours.empty() == coloured)
-          throw InputError(where + ": body record damaged: its colours disagree with its row");
-        return c;
+        return read_body(*file, record, where, points, dims, viewpoint, coloured);
       }));
   return v;
 }
@@ -514,10 +525,17 @@ DatabaseCheck check_database(const std::string& dir) {
   });
   out.views = static_cast<int>(db.views.size() + db.damaged.size());
   for (const std::string& d : db.damaged) out.damaged.push_back(d);
+  // Each view's records decoded and dropped (not kept as a recognition keeps them: a database
+  // of 16,384 views holds 4 GB of bodies).
+  const std::size_t dims = feature_dims(db.descriptor);
   for (const ModelView& v : db.views) {
+    const std::string where = where_of(sql.path(), v.name, v.record);
     bool whole = true;
-    for (const auto& read : {std::function<void()>([&] { v.part_signatures(); }),
-                             std::function<void()>([&] { v.cloud(); })})
+    for (const auto& read : {std::function<void()>([&] { read_parts(*db.file, v.record, where); }),
+                             std::function<void()>([&] {
+                               read_body(*db.file, v.record, where, v.points, dims, v.viewpoint,
+                                         v.coloured);
+                             })})
       try {
         read();
       } catch (const InputError& e) {
