@@ -23,6 +23,8 @@
 #include <map>
 #include <numeric>
 
+#include "fresh_dir.hpp"
+
 namespace fs = std::filesystem;
 using namespace proxseg;
 
@@ -30,28 +32,8 @@ namespace {
 
 const std::string kData = PROXSEG_DATA_DIR;
 
-// ctest runs every test in its own process, several at once: tests of one fixture that build
-// the same database must not share its directory.
-// They are removed when the process ends.
-std::vector<std::string>& made_dirs() {
-  static std::vector<std::string> dirs;
-  return dirs;
-}
-struct RemoveMadeDirs : ::testing::Environment {
-  void TearDown() override {
-    for (const auto& d : made_dirs()) fs::remove_all(d);
-  }
-};
-const auto* const kRemoveMadeDirs = ::testing::AddGlobalTestEnvironment(new RemoveMadeDirs);
-
-std::string fresh_dir(const std::string& name) {
-  const std::string dir =
-      std::string(PROXSEG_TEST_TMP) + "/" + name + "-" + std::to_string(::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  made_dirs().push_back(dir);
-  return dir;
-}
+using test::fresh_dir;
+using test::made_dirs;
 
 std::vector<Eigen::Vector3d> points_of(const Frame& f, const std::vector<int>& idx) {
   std::vector<Eigen::Vector3d> out;
