@@ -405,6 +405,20 @@ TEST(Database, UpgradedFolderDatabasesGiveTheSameAnswers) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("proxseg db upgrade"), std::string::npos) << e.what();
   }
+  // A link planted for a view is refused, not followed (the version-1 checks stay).
+  const std::string pcd = dir + "/views/ape-000.pcd", kept = dir + "-ape.pcd";
+  made_dirs().push_back(kept);
+  fs::rename(pcd, kept);
+  fs::create_symlink(kept, pcd);
+  try {
+    upgrade_database(dir);
+    ADD_FAILURE() << "a link planted for a view was followed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("symbolic link"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir + "/" + kDatabaseFile));
+  fs::remove(pcd);
+  fs::rename(kept, pcd);
   const Database old = detail::read_folder_database(dir);
   EXPECT_EQ(upgrade_database(dir), 13);
   EXPECT_THROW(upgrade_database(dir), InputError);  // once

@@ -55,8 +55,9 @@ Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> 
               std::vector<Rgb> colours = {});
 // Fills the view's Signature::parts: 24 parts, each the view without the 15, 30 or 45 % of its
 // points nearest to one of 8 centres spread over it (farthest-point sampling); none for a view of
-// under 16 points. What a view needs to enter a database (io add_view() and load_database(),
-// captured_database(), rec_eval's databases call it); describe() and restore() leave parts empty.
+// under 16 points. What a view needs to enter a database (make_model_view(), model_view.hpp,
+// calls it for add_view(), db upgrade and the evaluation's databases; a stored view's parts are
+// read from its file); describe() and restore() leave parts empty.
 void add_part_signatures(Cloud& view);
 
 // Algorithm 2 for one (candidate, view) pair; `seed` drives the RANSAC samples, so the result
