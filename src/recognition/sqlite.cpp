@@ -88,8 +88,19 @@ Sqlite::Sqlite(const std::string& path, Mode mode) : path_(path) {
     db_ = nullptr;
     throw FileError(path + ": cannot open the model database (" + why + ")");
   }
-  sqlite3_busy_timeout(db, kBusyTimeoutMs);
-  sqlite3_extended_result_codes(db, 1);
+  // The destructor does not run when the constructor throws: close the connection here.
+  try {
+    configure(mode);
+  } catch (...) {
+    sqlite3_close_v2(db);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+void Sqlite::configure(Mode mode) {
+  sqlite3_busy_timeout(db_of(db_), kBusyTimeoutMs);
+  sqlite3_extended_result_codes(db_of(db_), 1);
   // Checks that the file is a SQLite database at all (the first read of the header), and makes
   // it WAL: readers and a writer never wait for each other, a crash leaves the last commit.
   if (mode == Mode::kCreate)  // a new file only; no effect on one that has pages

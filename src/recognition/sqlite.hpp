@@ -71,6 +71,8 @@ class Sqlite {
   void* handle() const { return db_; }
 
  private:
+  // Busy timeout, extended codes, page size and journal (WAL) as `mode` wants them.
+  void configure(Mode mode);
   std::string path_;
   void* db_ = nullptr;
   std::mutex mutex_;

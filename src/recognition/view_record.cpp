@@ -50,6 +50,10 @@ class Reader {
     if (!v.allFinite()) damaged("holds a non-finite value");
     return v;
   }
+  void take(void* out, std::size_t n) {
+    const char* p = span(n);
+    if (n > 0) std::memcpy(out, p, n);  // an empty vector's data() may be null
+  }
   const char* span(std::size_t n) {
     if (n > end_ - at_) damaged("is shorter than its sizes say");
     const char* p = bytes_.data() + at_;
@@ -64,7 +68,6 @@ class Reader {
   }
 
  private:
-  void take(void* out, std::size_t n) { std::memcpy(out, span(n), n); }
   std::string where_;
   const char* record_;
   const std::string& bytes_;
@@ -115,8 +118,7 @@ ViewSummary decode_summary(const std::string& where, const std::string& bytes) {
   if (rows > kMaxBins || cols > 1024) in.damaged("implausible sketch sizes");
   SketchSet& k = s.part_sketches;
   k.bins.resize(rows, cols);
-  std::memcpy(k.bins.data(), in.span(sizeof(std::uint16_t) * rows * cols),
-              sizeof(std::uint16_t) * rows * cols);
+  in.take(k.bins.data(), sizeof(std::uint16_t) * rows * cols);
   k.spreads = in.floats(cols);
   in.finish();
   return s;
