@@ -113,8 +113,10 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   header["frames_all"] = all.size();
   header["proxseg"] = proxseg::build_info();
   header["runner"] = "cli";
+  std::vector<std::string> damaged;  // lines of the earlier logs that could not be read
   const std::set<std::string> finished =
-      o.resume ? proxseg::finished_frames(out_dir) : std::set<std::string>{};
+      o.resume ? proxseg::finished_frames(out_dir, &damaged) : std::set<std::string>{};
+  for (const std::string& d : damaged) std::cerr << "proxseg: warning: " << d << "\n";
   std::vector<proxseg::FrameSource> todo;
   for (const auto& f : frames)
     if (!finished.count(f.id)) todo.push_back(f);
@@ -196,6 +198,8 @@ int run_summary(const SummaryOptions& o) {
   if (!fs::is_directory(o.output, ec))
     throw proxseg::FileError(o.output + ": not a folder (expected a batch's output folder)");
   const nlohmann::json summary = proxseg::summarize(proxseg::summary_logs(o.output), true);
+  for (const auto& d : summary["damaged_lines"])
+    std::cerr << "proxseg: warning: " << d.get<std::string>() << "\n";
   const std::string path = (fs::path(o.output) / "summary.json").string();
   proxseg::write_file_atomic(path, summary.dump(2) + "\n");
   if (o.json)

@@ -35,6 +35,14 @@ void describe_app(CLI::App& app) {
   app.require_subcommand(1);
 }
 
+namespace {
+// Without allocating: there may be no memory left for a message.
+void say_out_of_memory() {
+  const char msg[] = "proxseg: error: out of memory\n";
+  [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
+}
+}  // namespace
+
 int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch) {
   try {
     app.parse(argc, argv);
@@ -45,9 +53,43 @@ int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& di
   } catch (const InputError& e) {
     std::cerr << "proxseg: error: " << e.what() << "\n";
     return 1;
+  } catch (const std::bad_alloc&) {
+    say_out_of_memory();
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "proxseg: error: " << e.what() << "\n";
     return 1;
+  }
+}
+
+int guarded_main(const std::function<int()>& main) {
+  try {
+    return main();
+  } catch (const std::bad_alloc&) {
+    say_out_of_memory();
+    return 1;
+  }
+}
+
+std::string input_name(const SegmentOptions& o) {
+  if (!o.batch.empty()) return o.batch.front();
+  return o.input.empty() ? o.color : o.input;
+}
+
+int naming_input(const std::string& input, const char* doing, const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const InputError&) {
+    throw;  // names its file already
+  } catch (const CLI::Error&) {
+    throw;  // a usage error
+  } catch (const std::bad_alloc&) {
+    // What the failed step held is freed by now: the message has room.
+    throw InputError(input + ": out of memory while " + doing +
+                     " (the process could not allocate more; a smaller input, fewer --threads "
+                     "or more memory)");
+  } catch (const std::exception& e) {  // the system refused something else (a thread, ...)
+    throw InputError(input + ": " + e.what() + " (while " + doing + ")");
   }
 }
 
@@ -89,6 +131,10 @@ void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--threads", o.threads,
                   "Worker threads (0 = all cores; segment --batch: that many frames at once, one "
                   "thread each); results do not depend on it");
+  cmd->add_option("--max-memory", o.max_memory,
+                  "Refuse a frame whose segmentation would need more memory than this, in MiB "
+                  "(an estimate from its size, checked before it starts; a batch logs it as a "
+                  "failed frame and goes on); 0 = no limit");
 }
 
 // Preset < --config < individual flags.
@@ -114,6 +160,7 @@ proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentP
   if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
   if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
   if (o.threads) p.threads = *o.threads;
+  if (o.max_memory) p.max_memory_mib = *o.max_memory;
   // A flag of stages 2-6 asks for the labels it changes.
   const bool label_flag = o.voxel_size || o.min_points || o.alpha || o.pca_dims || o.prior_weight ||
                           o.wu || o.wc || o.colour_weight || o.texture_weight || o.shape_weight ||

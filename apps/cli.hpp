@@ -38,6 +38,7 @@ struct SegmentOptions : BatchOptions {
   std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
       shape_weight, cluster_tolerance;
   std::optional<int> min_points, pca_dims, threads, min_candidate_points;
+  std::optional<double> max_memory;  // --max-memory MIB
   bool no_colour = false, no_texture = false, no_shape = false;
   bool paper_labels = false;  // --paper-labels
 };
@@ -95,8 +96,20 @@ inline constexpr ToolCommand kToolCommands[] = {
 const char* tool_about(const std::string& name);
 
 // Parses argv into app and runs the chosen command (dispatch returns its exit code): the help
-// (exit 0), a usage error (2), InputError or another error (1, "proxseg: error: ..." on stderr).
+// (exit 0), a usage error (2), InputError or another error, memory exhaustion included (1,
+// "proxseg: error: ..." on stderr).
 int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch);
+// A program's main: runs it, and turns memory exhausted before or after run_app (building the
+// command line's parser, loading libraries' state) into exit 1 with "proxseg: error: out of
+// memory" instead of an abort.
+int guarded_main(const std::function<int()>& main);
+// What a command works on, for messages: its INPUT, the colour image of its pair, or "--batch"'s
+// sources.
+std::string input_name(const SegmentOptions& o);
+// Runs command; memory exhausted in it becomes an InputError "INPUT: out of memory while
+// DOING", another failure that is neither an InputError nor a usage error "INPUT: WHAT (while
+// DOING)" (exit 1), so that the message names the frame.
+int naming_input(const std::string& input, const char* doing, const std::function<int()>& command);
 // The application both programs start from: its name, description and --version.
 void describe_app(CLI::App& app);
 

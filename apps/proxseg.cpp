@@ -45,18 +45,22 @@ int run_tools(char** argv) {
 
 int main(int argc, char** argv) {
   if (argc > 1 && tool_about(argv[1])[0] != '\0') return run_tools(argv);
-  proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
-  CLI::App app;
-  describe_app(app);
-  SegmentCommand segment;
-  add_segment(app, segment);
-  // Listed in the help; never parsed here (run_tools above).
-  for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
-  SummaryOptions summary;
-  add_summary(app, summary);
-  return run_app(app, argc, argv, [&] {
-    if (app.got_subcommand("segment")) return run_segment(segment);
-    if (app.got_subcommand("summary")) return run_summary(summary);
-    return 2;
+  return guarded_main([&] {
+    proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
+    CLI::App app;
+    describe_app(app);
+    SegmentCommand segment;
+    add_segment(app, segment);
+    // Listed in the help; never parsed here (run_tools above).
+    for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
+    SummaryOptions summary;
+    add_summary(app, summary);
+    return run_app(app, argc, argv, [&] {
+      if (app.got_subcommand("segment"))
+        return naming_input(input_name(segment), "segmenting it",
+                            [&] { return run_segment(segment); });
+      if (app.got_subcommand("summary")) return run_summary(summary);
+      return 2;
+    });
   });
 }

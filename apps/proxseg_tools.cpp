@@ -10,22 +10,26 @@
 using namespace cli;
 
 int main(int argc, char** argv) {
-  proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
-  CLI::App app;
-  describe_app(app);
-  DbOptions db;
-  add_db(app, db);
-  RecognizeOptions recognize;
-  add_recognize(app, recognize);
-  EvalOptions eval;
-  add_eval(app, eval);
-  SynthOptions synth;
-  add_synth(app, synth);
-  return run_app(app, argc, argv, [&] {
-    if (app.got_subcommand("synth")) return run_synth(synth);
-    if (app.got_subcommand("eval-seg")) return run_eval(eval);
-    if (app.got_subcommand("db")) return run_db(db);
-    if (app.got_subcommand("recognize")) return run_recognize(recognize);
-    return 2;
+  return guarded_main([&] {
+    proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
+    CLI::App app;
+    describe_app(app);
+    DbOptions db;
+    add_db(app, db);
+    RecognizeOptions recognize;
+    add_recognize(app, recognize);
+    EvalOptions eval;
+    add_eval(app, eval);
+    SynthOptions synth;
+    add_synth(app, synth);
+    return run_app(app, argc, argv, [&] {
+      if (app.got_subcommand("synth")) return run_synth(synth);
+      if (app.got_subcommand("eval-seg")) return run_eval(eval);
+      if (app.got_subcommand("db")) return run_db(db);
+      if (app.got_subcommand("recognize"))
+        return naming_input(recognize.object.empty() ? input_name(recognize) : recognize.object,
+                            "recognising it", [&] { return run_recognize(recognize); });
+      return 2;
+    });
   });
 }

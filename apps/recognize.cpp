@@ -225,6 +225,7 @@ int run_recognize(const RecognizeOptions& o) {
     std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
               << frame.height << ")\n";
     print_colourless_note(o.input, frame, seg);
+    proxseg::check_memory(frame, seg, input_name(o));
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 

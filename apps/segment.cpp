@@ -73,6 +73,7 @@ int run_segment(const SegmentCommand& o) {
   std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
             << frame.height << ")\n";
   print_colourless_note(o.input, frame, params);
+  proxseg::check_memory(frame, params, input_name(o));
   const proxseg::SegmentResult result = proxseg::segment(frame, params);
   const nlohmann::json report =
       proxseg::write_segmentation(o.output, frame, params, result, outputs);

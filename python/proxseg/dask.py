@@ -26,6 +26,7 @@ import json
 import os
 import sys
 import time
+import warnings
 from typing import Any, Dict, List, Mapping, Optional, Sequence
 
 from . import _proxseg
@@ -183,7 +184,9 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     header.update({"sources": sources, "shard": None, "frames": len(frames),
                    "frames_all": len(frames),
                    "proxseg": _proxseg.build_info(), "runner": "dask"})
-    finished = _proxseg._finished_frames(out_dir) if resume else set()
+    finished, damaged = _proxseg._finished_frames(out_dir) if resume else (set(), [])
+    for line in damaged:  # lines of the earlier logs that could not be read: skipped
+        warnings.warn(line)
     todo = [f for f in frames if f["id"] not in finished]
     log = _proxseg._SummaryLog(out_dir, _proxseg._summary_name(), header, resume)
     if resume:

@@ -21,12 +21,17 @@ py::dict to_dict(const FrameSource& f) {
   d["color"] = f.color;
   d["depth"] = f.depth;
   d["camera"] = f.camera;
+  if (!f.unreadable.empty()) {
+    d["unreadable"] = f.unreadable;
+    d["problem"] = f.problem;
+  }
   return d;
 }
 
 FrameSource from_dict(const py::handle& h) {
   if (!py::isinstance<py::dict>(h))
-    throw py::type_error("a frame is a dict with id, cloud, color, depth, camera");
+    throw py::type_error(
+        "a frame is a dict with id, cloud, color, depth, camera (and unreadable, problem)");
   const auto d = py::reinterpret_borrow<py::dict>(h);
   FrameSource f;
   auto get = [&](const char* key, std::string& out) {
@@ -37,6 +42,8 @@ FrameSource from_dict(const py::handle& h) {
   get("color", f.color);
   get("depth", f.depth);
   get("camera", f.camera);
+  get("unreadable", f.unreadable);
+  get("problem", f.problem);
   if (f.id.empty()) throw py::value_error("a frame needs an \"id\"");
   return f;
 }
@@ -124,8 +131,13 @@ void bind_batch(py::module_& m) {
   m.def(
       "_finished_frames",
       [](const std::string& out_dir) {
-        py::gil_scoped_release release;
-        return finished_frames(out_dir);
+        std::vector<std::string> damaged;
+        std::set<std::string> done;
+        {
+          py::gil_scoped_release release;
+          done = finished_frames(out_dir, &damaged);
+        }
+        return py::make_tuple(done, damaged);
       },
       py::arg("out_dir"));
   m.def(

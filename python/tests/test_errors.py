@@ -2,6 +2,8 @@
 that cannot be read or written, ValueError for bad content or values, TypeError for arguments of
 the wrong kind; never a crash."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -26,6 +28,12 @@ def test_missing_and_unreadable_files_raise_oserror(tmp_path):
         proxseg.read_rgbd(tmp_path / "nope-color.png", tmp_path / "d.png", meta=tmp_path / "m.json")
     with pytest.raises(OSError):
         proxseg.segment(tmp_path / "nope.ply")
+    os.mkfifo(tmp_path / "fifo.pcd")  # refused at once, not read (a FIFO would block forever)
+    with pytest.raises(OSError, match="fifo.pcd: is a FIFO"):
+        proxseg.read_point_cloud(tmp_path / "fifo.pcd")
+    (tmp_path / "zero.pcd").symlink_to("/dev/zero")
+    with pytest.raises(OSError, match="zero.pcd: is a character device"):
+        proxseg.segment(tmp_path / "zero.pcd")
 
 
 def test_bad_file_content_raises_valueerror(tmp_path):
@@ -68,6 +76,10 @@ def test_bad_frames_and_parameters_raise_valueerror():
         proxseg.segment(frame, mrf={"method": "annealing"})
     with pytest.raises(ValueError, match="preset: expected \"default\" or \"paper\""):
         proxseg.segment(frame, preset="fast")
+    with pytest.raises(ValueError, match="more than max_memory_mib 40; refused before starting"):
+        proxseg.segment(frame, max_memory_mib=40)
+    with pytest.raises(ValueError, match="max_memory_mib"):
+        proxseg.segment(frame, max_memory_mib=-1)
     with pytest.raises(ValueError, match="min_score"):
         proxseg.RecognitionParams(min_score=2)
     with pytest.raises(ValueError, match="a section"):
@@ -116,4 +128,6 @@ def test_database_errors(tmp_path):
         empty.render("a", tmp_path / "none.ply")
     with pytest.raises(IndexError):
         empty.view(0)
+    with pytest.raises(IndexError):
+        empty.view(-1)
     assert len(empty) == 0 and not (tmp_path / "new" / "index.json").exists()

@@ -1,7 +1,7 @@
 // Initial clustering [paper Algorithm 1] and k-means [paper 3.2].
 #include <proxseg/core/clustering.hpp>
 
-#include <omp.h>
+#include "util/parallel_for.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -53,7 +53,7 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
   double sparse_work = 0;
   for (Eigen::Index k = 0; k < n; ++k) sparse_work += 0.5 * std::pow(start[k + 1] - start[k], 2.0);
   const double dense_work = 0.5 * static_cast<double>(n) * d * d;
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
 
   Eigen::MatrixXd cov(d, d);
   constexpr int kPanel = 32;  // output columns per task
@@ -63,43 +63,45 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
     // features are added in order.
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> s =
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(d, d);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-    for (int p = 0; p < panels; ++p) {
-      const int a0 = p * kPanel, a1 = std::min(d, a0 + kPanel);
-      for (Eigen::Index k = 0; k < n; ++k) {
-        const int* idx = index.data() + start[k];
-        const double* val = value.data() + start[k];
-        const int m = start[k + 1] - start[k];
-        const int first = static_cast<int>(std::lower_bound(idx, idx + m, a0) - idx);
-        const int last = static_cast<int>(std::lower_bound(idx + first, idx + m, a1) - idx);
-        // Each entry takes one product per feature row, so within a row the products may come
-        // in any order: four output rows at a time share the loads of the column indices and
-        // values.
-        int i = first;
-        for (; i + 3 < last; i += 4) {
-          double* row[4];
-          double v[4];
-          for (int r = 0; r < 4; ++r) {
-            row[r] = s.data() + static_cast<Eigen::Index>(idx[i + r]) * d;
-            v[r] = val[i + r];
+    detail::parallel_for(
+        panels, nthreads,
+        [&](int p) {
+          const int a0 = p * kPanel, a1 = std::min(d, a0 + kPanel);
+          for (Eigen::Index k = 0; k < n; ++k) {
+            const int* idx = index.data() + start[k];
+            const double* val = value.data() + start[k];
+            const int m = start[k + 1] - start[k];
+            const int first = static_cast<int>(std::lower_bound(idx, idx + m, a0) - idx);
+            const int last = static_cast<int>(std::lower_bound(idx + first, idx + m, a1) - idx);
+            // Each entry takes one product per feature row, so within a row the products may come
+            // in any order: four output rows at a time share the loads of the column indices and
+            // values.
+            int i = first;
+            for (; i + 3 < last; i += 4) {
+              double* row[4];
+              double v[4];
+              for (int r = 0; r < 4; ++r) {
+                row[r] = s.data() + static_cast<Eigen::Index>(idx[i + r]) * d;
+                v[r] = val[i + r];
+              }
+              for (int j = 0; j <= i; ++j) {
+                const int c = idx[j];
+                const double f = val[j];
+                row[0][c] += v[0] * f;
+                row[1][c] += v[1] * f;
+                row[2][c] += v[2] * f;
+                row[3][c] += v[3] * f;
+              }
+              for (int r = 1; r < 4; ++r)  // the triangle's corner
+                for (int j = i + 1; j <= i + r; ++j) row[r][idx[j]] += v[r] * val[j];
+            }
+            for (; i < last; ++i) {
+              double* row = s.data() + static_cast<Eigen::Index>(idx[i]) * d;
+              for (int j = 0; j <= i; ++j) row[idx[j]] += val[i] * val[j];
+            }
           }
-          for (int j = 0; j <= i; ++j) {
-            const int c = idx[j];
-            const double f = val[j];
-            row[0][c] += v[0] * f;
-            row[1][c] += v[1] * f;
-            row[2][c] += v[2] * f;
-            row[3][c] += v[3] * f;
-          }
-          for (int r = 1; r < 4; ++r)  // the triangle's corner
-            for (int j = i + 1; j <= i + r; ++j) row[r][idx[j]] += v[r] * val[j];
-        }
-        for (; i < last; ++i) {
-          double* row = s.data() + static_cast<Eigen::Index>(idx[i]) * d;
-          for (int j = 0; j <= i; ++j) row[idx[j]] += val[i] * val[j];
-        }
-      }
-    }
+        },
+        1);
     for (int a = 0; a < d; ++a)
       for (int b = 0; b <= a; ++b) cov(a, b) = (s(a, b) - mean(b) * sum(a)) / (n - 1.0);
   } else {
@@ -108,12 +110,14 @@ Eigen::MatrixXd covariance_lower(const Eigen::MatrixXf& features, const std::vec
       centred.col(a) = features.col(cols[a]).cast<double>().array() - mean(a);
     }
     // Panel p: columns [b0, b1) of the lower triangle, rows b0..d-1.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-    for (int p = 0; p < panels; ++p) {
-      const int b0 = p * kPanel, w = std::min(d, b0 + kPanel) - b0;
-      cov.block(b0, b0, d - b0, w).noalias() =
-          centred.rightCols(d - b0).transpose() * centred.middleCols(b0, w) / (n - 1.0);
-    }
+    detail::parallel_for(
+        panels, nthreads,
+        [&](int p) {
+          const int b0 = p * kPanel, w = std::min(d, b0 + kPanel) - b0;
+          cov.block(b0, b0, d - b0, w).noalias() =
+              centred.rightCols(d - b0).transpose() * centred.middleCols(b0, w) / (n - 1.0);
+        },
+        1);
   }
   return cov;
 }

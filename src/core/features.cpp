@@ -8,8 +8,6 @@
 #include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"
 
-#include <omp.h>
-
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -386,16 +384,15 @@ template <class Consume, class Prepare, class Side>
 void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
                    std::vector<float>& upper_edge, Consume&& consume, Prepare&& prepare,
                    Side&& side) {
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
   cv::Mat grey(frame.height, frame.width, CV_32F);
-#pragma omp parallel for schedule(static) num_threads(nthreads)
-  for (int v = 0; v < frame.height; ++v) {
+  detail::parallel_for(frame.height, nthreads, [&](int v) {
     float* row = grey.ptr<float>(v);
     for (int u = 0; u < frame.width; ++u) {
       const Rgb& c = frame.rgb[static_cast<std::size_t>(v) * frame.width + u];
       row[u] = static_cast<float>((0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0);
     }
-  }
+  });
   // Scale s filters the s-th level of a Gaussian pyramid with the same kernel: the wavelength in
   // the full image doubles with each scale at a quarter of the cost.
   std::vector<cv::Mat> levels(kGaborScales);
@@ -417,49 +414,57 @@ void gabor_filters(const Frame& frame, const FeatureParams& params, int threads,
   }
   // `prepare` and the 4 spectra, then the 24 filters (largest level first), are independent
   // tasks.
-#pragma omp parallel num_threads(nthreads)
-  {
-#pragma omp for schedule(dynamic, 1)
-    for (int task = -1; task < kGaborScales; ++task) {
-      if (task < 0)
-        prepare();
-      else
-        spectra[task] = level_spectrum(levels[task], stride);
-    }
+  detail::parallel_for(
+      kGaborScales + 1, nthreads,
+      [&](int i) {
+        if (i == 0)
+          prepare();
+        else
+          spectra[i - 1] = level_spectrum(levels[i - 1], stride);
+      },
+      1);
+  // Buffers per thread, reused from filter to filter.
+  struct Buffers {
     GaborWork work;
     cv::Mat level_magnitude, full;
     std::vector<float> sample, candidates;
-#pragma omp for schedule(dynamic, 1)
-    for (int task = -1; task < filters; ++task) {
-      if (task < 0) {
-        side();
-        continue;
-      }
-      const int filter = task;
-      const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
-      // On the response grid: level 0 is computed there; coarser levels are interpolated to it.
-      if (s == 0) {
-        gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, full);
-      } else {
-        gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, level_magnitude);
-        cv::resize(level_magnitude, full, cv::Size(response.width, response.height), 0, 0,
-                   cv::INTER_LINEAR);
-      }
-      CV_Assert(full.cols == response.width && full.rows == response.height);
-      CV_Assert(full.isContinuous() && full.type() == CV_32F);
-      const float* m = full.ptr<float>(0);
-      // Fixed bin edges per filter over the frame: [0, quantile] in 10 bins, over valid points.
-      sample.resize(sampled.size());
-      for (std::size_t j = 0; j < sampled.size(); ++j) sample[j] = m[sampled[j]];
-      if (!sample.empty()) {
-        const std::size_t q =
-            std::min(sample.size() - 1,
-                     static_cast<std::size_t>(params.texture_clip_quantile * sample.size()));
-        upper_edge[filter] = order_statistic(sample, q, candidates);
-      }
-      consume(filter, m);
-    }
-  }
+  };
+  std::vector<Buffers> buffers(static_cast<std::size_t>(std::max(1, nthreads)));
+  detail::parallel_for(
+      filters + 1, nthreads,
+      [&](int i, int t) {
+        if (i == 0) {
+          side();
+          return;
+        }
+        GaborWork& work = buffers[t].work;
+        cv::Mat &level_magnitude = buffers[t].level_magnitude, &full = buffers[t].full;
+        std::vector<float>&sample = buffers[t].sample, &candidates = buffers[t].candidates;
+        const int filter = i - 1;
+        const int s = filter / kGaborOrientations, o = filter % kGaborOrientations;
+        // On the response grid: level 0 is computed there; coarser levels are interpolated to it.
+        if (s == 0) {
+          gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, full);
+        } else {
+          gabor_magnitude(spectra[s], levels[s].size(), o, stride, params, work, level_magnitude);
+          cv::resize(level_magnitude, full, cv::Size(response.width, response.height), 0, 0,
+                     cv::INTER_LINEAR);
+        }
+        CV_Assert(full.cols == response.width && full.rows == response.height);
+        CV_Assert(full.isContinuous() && full.type() == CV_32F);
+        const float* m = full.ptr<float>(0);
+        // Fixed bin edges per filter over the frame: [0, quantile] in 10 bins, over valid points.
+        sample.resize(sampled.size());
+        for (std::size_t j = 0; j < sampled.size(); ++j) sample[j] = m[sampled[j]];
+        if (!sample.empty()) {
+          const std::size_t q =
+              std::min(sample.size() - 1,
+                       static_cast<std::size_t>(params.texture_clip_quantile * sample.size()));
+          upper_edge[filter] = order_statistic(sample, q, candidates);
+        }
+        consume(filter, m);
+      },
+      1);
 }
 
 GaborBank gabor_bank(const Frame& frame, const FeatureParams& params, int threads) {
@@ -595,7 +600,7 @@ void unorganized_normals(const Frame& frame, int k, int threads,
     }
   if (points.size() < 3) return;
   const detail::NearestPoints nearest(points);
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
   detail::parallel_for(
       static_cast<int>(points.size()), nthreads,
       [&](int j) {
@@ -641,7 +646,7 @@ std::vector<Eigen::Vector3f> point_normals(const Frame& frame, const FeaturePara
   // Organized: smooth the xyz image (NaN-aware box filter), then cross the central differences
   // along rows and columns, as integral-image normal estimation does; skip depth discontinuities.
   const int w = frame.width, h = frame.height, s = std::max(1, params.normal_step);
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
   cv::Mat xyz(h, w, CV_32FC3), mask(h, w, CV_32F);
   // Every pixel is written by one iteration: rows can go to any thread. The loops run on
   // threads that block when done (parallel_for): this is the image-grid selection's path too.
@@ -753,30 +758,35 @@ Eigen::MatrixXf voxel_features(const Frame& frame, const VoxelGrid& grid,
         build_cells, compute_normals);
   }
   // Each row is written by one iteration only: the result does not depend on the thread count.
-#pragma omp parallel for schedule(dynamic, 64) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads())
-  for (std::size_t row = 0; row < voxels.size(); ++row) {
-    const std::vector<int>& pts = grid.points[voxels[row]];
-    if (colour) {
-      f.row(row).segment(0, kColourDims) =
-          colour_block(pts.size(), [&](std::size_t j) -> const Rgb& { return frame.rgb[pts[j]]; }) *
-          static_cast<float>(params.colour_weight);
-    }
-    if (shape) {
-      auto point = [&](std::size_t j) -> const Eigen::Vector3f& { return frame.xyz[pts[j]]; };
-      auto normal = [&](std::size_t j) -> const Eigen::Vector3f& { return normals[pts[j]]; };
-      f.row(row).segment(kColourDims + kTextureDims, kShapeDims) =
-          shape_block(pts.size(), point, pts.size(), normal) *
-          static_cast<float>(params.shape_weight);
-    }
-  }
+  detail::parallel_for(
+      static_cast<int>(voxels.size()), detail::thread_count(threads),
+      [&](int r) {
+        const std::size_t row = static_cast<std::size_t>(r);
+        const std::vector<int>& pts = grid.points[voxels[row]];
+        if (colour) {
+          f.row(row).segment(0, kColourDims) =
+              colour_block(pts.size(),
+                           [&](std::size_t j) -> const Rgb& { return frame.rgb[pts[j]]; }) *
+              static_cast<float>(params.colour_weight);
+        }
+        if (shape) {
+          auto point = [&](std::size_t j) -> const Eigen::Vector3f& { return frame.xyz[pts[j]]; };
+          auto normal = [&](std::size_t j) -> const Eigen::Vector3f& { return normals[pts[j]]; };
+          f.row(row).segment(kColourDims + kTextureDims, kShapeDims) =
+              shape_block(pts.size(), point, pts.size(), normal) *
+              static_cast<float>(params.shape_weight);
+        }
+      },
+      64);
   // The texture blocks, column by column.
-#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
-  for (int c = 0; c < static_cast<int>(texture_blocks.size()) * kHistogramBins; ++c) {
-    const float* block = texture_blocks[c / kHistogramBins].data() + c % kHistogramBins;
-    float* column = f.col(kColourDims + c).data();
-    for (std::size_t row = 0; row < voxels.size(); ++row) column[row] = block[row * kHistogramBins];
-  }
+  detail::parallel_for(static_cast<int>(texture_blocks.size()) * kHistogramBins,
+                       detail::thread_count(threads), [&](int c) {
+                         const float* block =
+                             texture_blocks[c / kHistogramBins].data() + c % kHistogramBins;
+                         float* column = f.col(kColourDims + c).data();
+                         for (std::size_t row = 0; row < voxels.size(); ++row)
+                           column[row] = block[row * kHistogramBins];
+                       });
   return f;
 }
 

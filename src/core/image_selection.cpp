@@ -2,7 +2,9 @@
 // on an organized frame the geometry is read between neighbouring pixels, at the sensor's own
 // resolution, instead of between 2 cm voxels where a small object has one or two cells.
 #include <proxseg/core/features.hpp>
+
 #include <proxseg/core/selection.hpp>
+#include "util/parallel_for.hpp"
 
 #include "container_pieces.hpp"
 #include "image_grid.hpp"
@@ -12,7 +14,6 @@
 #include "util/stopwatch.hpp"
 #include "util/union_find.hpp"
 
-#include <omp.h>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -427,7 +428,7 @@ void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const Selec
 GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
                            const SelectionParams& params, int threads) {
   if (!frame.organized()) throw std::invalid_argument("grid_surfaces: unorganized frame");
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
   detail::Stopwatch watch;
   const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
   GridSurfaces out;
@@ -477,7 +478,7 @@ Selection select_candidates_on_grid(const Frame& frame,
 Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
                          const std::vector<std::uint32_t>& point_labels,
                          const SelectionParams& params, int threads) {
-  const int nthreads = threads > 0 ? threads : omp_get_max_threads();
+  const int nthreads = detail::thread_count(threads);
   const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
   SupportPlane support;
   support.found = surfaces.plane_found;

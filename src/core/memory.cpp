@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cstddef>  // defines __GLIBC__ with glibc
 #include <cstdint>
 #include <cstdlib>
@@ -13,6 +14,21 @@
 #endif
 
 namespace proxseg {
+
+namespace {
+
+// Bytes of address space this process may still map under RLIMIT_AS (SIZE_MAX without a limit).
+std::size_t address_space_left() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return SIZE_MAX;
+  std::ifstream statm("/proc/self/statm");
+  std::size_t pages = 0;
+  statm >> pages;
+  const std::size_t used = pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  return limit.rlim_cur > used ? static_cast<std::size_t>(limit.rlim_cur) - used : 0;
+}
+
+}  // namespace
 
 void keep_freed_memory() {
 #if defined(__GLIBC__)
@@ -29,15 +45,25 @@ void keep_freed_memory() {
   // virtual machine, more than the segmentation itself) or ~40 of 2 MiB. Only the address space
   // is reserved; memory is committed page by page as it is touched. Kernels with THP off or
   // "never" ignore the advice.
-  constexpr std::size_t kReserve = 384 * kMiB;
-  mallopt(M_TOP_PAD, static_cast<int>(kReserve));
+  std::size_t reserve = 384 * kMiB, pad = 64 * kMiB;
+  // Under an address-space limit (ulimit -v) the reservation, and growth in steps of `pad`
+  // (glibc asks for the padding even when it falls back from sbrk to mmap), would be what makes a
+  // later allocation fail: both shrink to a part of what the limit leaves.
+  if (const std::size_t left = address_space_left(); left < 16 * reserve) {
+    reserve = left / 16 >= 32 * kMiB ? left / 16 : 0;
+    pad = std::min(pad, left / 64);
+  }
   const auto brk_before = reinterpret_cast<std::uintptr_t>(sbrk(0));
-  void* probe = std::malloc(16 * kMiB);  // more than the top chunk holds: the heap grows now
+  void* probe = nullptr;
+  if (reserve > 0) {
+    mallopt(M_TOP_PAD, static_cast<int>(reserve));
+    probe = std::malloc(16 * kMiB);  // more than the top chunk holds: the heap grows now
+  }
   const auto brk_after = reinterpret_cast<std::uintptr_t>(sbrk(0));
   const auto at = reinterpret_cast<std::uintptr_t>(probe);
   // Only when the block came from the heap that just grew (not from another allocator's memory,
   // as under a sanitizer).
-  if (probe != nullptr && brk_after >= brk_before + kReserve && at < brk_after) {
+  if (probe != nullptr && brk_after >= brk_before + reserve && at < brk_after) {
     const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
     const std::uintptr_t begin = (at + page - 1) & ~(page - 1), end = brk_after & ~(page - 1);
 #if defined(MADV_HUGEPAGE)
@@ -45,7 +71,7 @@ void keep_freed_memory() {
 #endif
   }
   std::free(probe);
-  mallopt(M_TOP_PAD, static_cast<int>(64 * kMiB));  // later growth in large steps
+  mallopt(M_TOP_PAD, static_cast<int>(pad));  // later growth in large steps
 #endif
 }
 

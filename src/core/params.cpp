@@ -149,6 +149,8 @@ void validate(const SegmentParams& p) {
   require(sp.island_missing_share >= 0 && sp.island_missing_share <= 1,
           "selection.island_missing_share", "in [0, 1]");
   require(p.threads >= 0 && p.threads <= 1024, "threads", "0 (all cores) .. 1024");
+  require(finite(p.max_memory_mib) && p.max_memory_mib >= 0, "max_memory_mib",
+          ">= 0 MiB (0 = no limit)");
 }
 
 void validate(const RecognitionParams& p) {

@@ -6,6 +6,7 @@
 #include "selection_detail.hpp"
 #include "util/moments.hpp"
 #include "util/nearest_points.hpp"
+#include "util/parallel_for.hpp"
 #include "util/union_find.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -133,27 +134,29 @@ struct VoxelSurface {
   std::vector<char> has_normal;
 };
 
-VoxelSurface voxel_surface(const Frame& frame, const VoxelGrid& grid) {
+VoxelSurface voxel_surface(const Frame& frame, const VoxelGrid& grid, int threads) {
   VoxelSurface vs;
   vs.centroid.assign(grid.size(), Eigen::Vector3f::Zero());
   vs.normal.assign(grid.size(), Eigen::Vector3f::Zero());
   vs.has_normal.assign(grid.size(), 0);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (int v = 0; v < static_cast<int>(grid.size()); ++v) {
-    const auto& pts = grid.points[v];
-    const auto [mean, scatter] =
-        detail::moments(pts.size(), [&](std::size_t j) { return frame.xyz[pts[j]]; });
-    vs.centroid[v] = mean.cast<float>();
-    if (pts.size() < 3) continue;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(scatter);
-    // Points along a line (a voxel clipping an edge of the cloud) have no defined normal.
-    if (eig.eigenvalues()[1] < 0.01 * eig.eigenvalues()[2]) continue;
-    Eigen::Vector3d n = eig.eigenvectors().col(0);
-    if (n.dot(-mean) < 0) n = -n;
-    vs.normal[v] = n.cast<float>();
-    vs.has_normal[v] = 1;
-  }
+  detail::parallel_for(
+      static_cast<int>(grid.size()), detail::thread_count(threads),
+      [&](int v) {
+        const auto& pts = grid.points[v];
+        const auto [mean, scatter] =
+            detail::moments(pts.size(), [&](std::size_t j) { return frame.xyz[pts[j]]; });
+        vs.centroid[v] = mean.cast<float>();
+        if (pts.size() < 3) return;
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+        eig.computeDirect(scatter);
+        // Points along a line (a voxel clipping an edge of the cloud) have no defined normal.
+        if (eig.eigenvalues()[1] < 0.01 * eig.eigenvalues()[2]) return;
+        Eigen::Vector3d n = eig.eigenvectors().col(0);
+        if (n.dot(-mean) < 0) n = -n;
+        vs.normal[v] = n.cast<float>();
+        vs.has_normal[v] = 1;
+      },
+      64);
   return vs;
 }
 
@@ -172,7 +175,7 @@ bool concave(const VoxelSurface& vs, int u, int v, float cos_tolerance) {
 // normal. Hypotheses are an even spread of voxels, so there is no randomness. Returns per voxel
 // whether it lies in the plane; all false if the best plane covers less than min_area.
 std::vector<char> support_plane(const VoxelGrid& grid, const VoxelSurface& vs,
-                                const SelectionParams& params) {
+                                const SelectionParams& params, int threads) {
   std::vector<int> candidates;
   for (std::size_t v = 0; v < grid.size(); ++v)
     if (vs.has_normal[v]) candidates.push_back(static_cast<int>(v));
@@ -187,12 +190,14 @@ std::vector<char> support_plane(const VoxelGrid& grid, const VoxelSurface& vs,
   };
   const int hypotheses = std::min<int>(300, candidates.size());
   std::vector<std::size_t> support(hypotheses, 0);
-#pragma omp parallel for schedule(dynamic, 8)
-  for (int i = 0; i < hypotheses; ++i) {
-    const int h = candidates[static_cast<std::size_t>(i) * candidates.size() / hypotheses];
-    for (int v : candidates)
-      if (inlier(h, v)) support[i] += grid.points[v].size();
-  }
+  detail::parallel_for(
+      hypotheses, detail::thread_count(threads),
+      [&](int i) {
+        const int h = candidates[static_cast<std::size_t>(i) * candidates.size() / hypotheses];
+        for (int v : candidates)
+          if (inlier(h, v)) support[i] += grid.points[v].size();
+      },
+      8);
   const int best =
       static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
   const int h = candidates[static_cast<std::size_t>(best) * candidates.size() / hypotheses];
@@ -294,30 +299,33 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
 // Per point, the number of points of its own cluster within radius (itself included), scaled by
 // the squared range on organized frames.
 std::vector<float> point_density(const Frame& frame, const std::vector<int>& points,
-                                 const std::vector<int>& group, double radius) {
+                                 const std::vector<int>& group, double radius, int threads) {
   const CellIndex index(frame, points, group, radius);
   const float r2 = static_cast<float>(radius * radius);
   std::vector<float> density(frame.size(), 0.0f);
   const std::vector<int>& order = index.order();
-#pragma omp parallel for schedule(dynamic, 64)
-  for (int c = 0; c < static_cast<int>(index.cells()); ++c) {
-    const CellKey k = index.cell(c);
-    std::vector<int> near;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int n = index.find({k.group, k.x + dx, k.y + dy, k.z + dz});
-          if (n >= 0) near.push_back(n);
+  detail::parallel_for(
+      static_cast<int>(index.cells()), detail::thread_count(threads),
+      [&](int c) {
+        const CellKey k = index.cell(c);
+        std::vector<int> near;
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int n = index.find({k.group, k.x + dx, k.y + dy, k.z + dz});
+              if (n >= 0) near.push_back(n);
+            }
+        for (int i = index.begin(c); i < index.end(c); ++i) {
+          const int p = order[i];
+          int count = 0;
+          for (int n : near)
+            for (int j = index.begin(n); j < index.end(n); ++j)
+              count += (frame.xyz[order[j]] - frame.xyz[p]).squaredNorm() <= r2;
+          density[p] =
+              static_cast<float>(count) * (frame.organized() ? frame.xyz[p].squaredNorm() : 1);
         }
-    for (int i = index.begin(c); i < index.end(c); ++i) {
-      const int p = order[i];
-      int count = 0;
-      for (int n : near)
-        for (int j = index.begin(n); j < index.end(n); ++j)
-          count += (frame.xyz[order[j]] - frame.xyz[p]).squaredNorm() <= r2;
-      density[p] = static_cast<float>(count) * (frame.organized() ? frame.xyz[p].squaredNorm() : 1);
-    }
-  }
+      },
+      64);
   return density;
 }
 
@@ -464,8 +472,9 @@ struct DensitySplit {
 
 DensitySplit split_weak_points(const Frame& frame, const std::vector<int>& labelled,
                                const std::vector<int>& cluster, int clusters,
-                               const SelectionParams& params) {
-  const std::vector<float> density = point_density(frame, labelled, cluster, params.density_radius);
+                               const SelectionParams& params, int threads) {
+  const std::vector<float> density =
+      point_density(frame, labelled, cluster, params.density_radius, threads);
   std::vector<std::vector<float>> per_cluster(clusters);
   for (int p : labelled) per_cluster[cluster[p]].push_back(density[p]);
   std::vector<float> threshold(clusters, 0.0f);
@@ -617,19 +626,21 @@ void absorb_small_components(const VoxelGrid& grid, const SelectionParams& param
 // fragments absorbed; the large ones become the candidates (instances 1..n).
 Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
                             const std::vector<std::uint32_t>& point_labels,
-                            const SelectionParams& params) {
+                            const SelectionParams& params, int threads) {
   Selection s;
   s.instance.assign(frame.size(), 0);
-  const VoxelSurface surface = voxel_surface(frame, grid);
+  const VoxelSurface surface = voxel_surface(frame, grid, threads);
   // The supporting plane, when cut out, separates the objects from what they stand on.
-  const std::vector<char> in_plane = params.cut_support_plane ? support_plane(grid, surface, params)
-                                                              : std::vector<char>(grid.size(), 0);
+  const std::vector<char> in_plane = params.cut_support_plane
+                                         ? support_plane(grid, surface, params, threads)
+                                         : std::vector<char>(grid.size(), 0);
   const std::vector<int> voxel_cluster =
       voxel_clusters(grid, point_labels, surface, in_plane, params, s.clusters);
   std::vector<int> labelled;
   const std::vector<int> cluster =
       point_clusters(frame, grid, point_labels, voxel_cluster, labelled);
-  const DensitySplit split = split_weak_points(frame, labelled, cluster, s.clusters, params);
+  const DensitySplit split =
+      split_weak_points(frame, labelled, cluster, s.clusters, params, threads);
   s.weak_points = split.set_aside.size();
   std::vector<int> component =
       euclidean_components(frame, split.dense, cluster, params.cluster_tolerance);

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -42,22 +43,72 @@ std::string header_difference(const nlohmann::json& a, const nlohmann::json& b) 
   return "";
 }
 
-// Visits the whole lines of a summary log, parsed, in order; a line that does not parse (the
-// half-written last line of a killed run) ends them. One line at a time: a log of a million
-// frames is never all in memory. Returns where the whole lines end.
-template <class Visit>
-std::size_t for_each_line(const std::string& path, Visit&& visit) {
+// What is wrong with a parsed line of a summary log, "" when nothing: a header or an end is an
+// object; a frame's row names its frame with a string, its outputs as {file: bytes} and its
+// error as a string.
+std::string line_problem(const nlohmann::json& j) {
+  if (!j.is_object()) return "not a JSON object";
+  if (j.contains("header")) {
+    const nlohmann::json& h = j["header"];
+    if (!h.is_object()) return "\"header\" is not an object";
+    for (const char* count : {"frames", "frames_all"})
+      if (h.contains(count) && !h[count].is_number_unsigned())
+        return "the header's \"" + std::string(count) + "\" is not a count";
+    if (h.contains("shard") && !h["shard"].is_null() && !h["shard"].is_string())
+      return "the header's \"shard\" is not a string";
+    return "";
+  }
+  if (j.contains("end")) return j["end"].is_object() ? "" : "\"end\" is not an object";
+  if (!j.contains("frame")) return "neither a header, a frame's row nor an end";
+  if (!j["frame"].is_string()) return "\"frame\" is not a string";
+  if (j.contains("error") && !j["error"].is_string()) return "\"error\" is not a string";
+  if (j.contains("outputs")) {
+    if (!j["outputs"].is_object()) return "\"outputs\" is not an object";
+    for (const auto& [file, bytes] : j["outputs"].items())
+      if (!bytes.is_number_unsigned()) return "\"outputs\" has a size that is no byte count";
+  }
+  return "";
+}
+
+// The frame a damaged line may have named: the string after its first "frame": (""
+// when there is none to read).
+std::string frame_named_in(const std::string& line) {
+  static const std::regex kFrame(R"re("frame"\s*:\s*"((?:[^"\\]|\\.)*)")re");
+  std::smatch m;
+  if (!std::regex_search(line, m, kFrame)) return "";
+  const nlohmann::json id = nlohmann::json::parse("\"" + m[1].str() + "\"", nullptr, false);
+  return id.is_string() ? id.get<std::string>() : "";
+}
+
+// Visits the whole lines of a summary log, parsed and checked, in order: visit(line) for each
+// good one, damaged(message, frame) for one that is not (its number, what is wrong, and the
+// frame it may have named, "" when none can be read); reading goes on after it. Only a last line
+// without its newline (the half-written row of a killed run) is not whole: it is left out
+// without a word. One line at a time: a log of a million frames is never all in memory.
+// Returns where the whole lines end.
+template <class Visit, class Damaged>
+std::size_t for_each_line(const std::string& path, Visit&& visit, Damaged&& damaged) {
   std::ifstream in(path, std::ios::binary);
-  std::size_t end = 0;
+  std::size_t end = 0, number = 0;
   std::string line;
   while (std::getline(in, line)) {
     if (in.eof()) break;  // no newline after it: not whole
-    nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.is_object()) break;
-    visit(j);
+    ++number;
     end += line.size() + 1;
+    nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    const std::string problem = j.is_discarded() ? "not JSON" : line_problem(j);
+    if (problem.empty())
+      visit(j);
+    else
+      damaged(path + ":" + std::to_string(number) + ": damaged line (" + problem + ")",
+              frame_named_in(line));
   }
   return end;
+}
+
+// A damaged line as a warning: what is done about it.
+std::string skipped(const std::string& message, const std::string& frame) {
+  return message + "; skipped" + (frame.empty() ? "" : ", frame " + frame + " is done again");
 }
 
 void write_all(int fd, const std::string& bytes, const std::string& path) {
@@ -72,9 +123,14 @@ void write_all(int fd, const std::string& bytes, const std::string& path) {
 
 }  // namespace
 
-// OUT_DIR/<id>, its folder made.
+std::string output_stem(const std::string& id) {
+  const bool clashes = id == "summary" || id.rfind("summary.", 0) == 0;
+  return clashes ? id + "-frame" : id;
+}
+
+// OUT_DIR/<stem>, its folder made.
 std::string output_prefix(const std::string& out_dir, const std::string& id) {
-  const fs::path prefix = fs::path(out_dir) / id;
+  const fs::path prefix = fs::path(out_dir) / output_stem(id);
   std::error_code ec;
   fs::create_directories(prefix.parent_path(), ec);
   if (ec)
@@ -95,11 +151,22 @@ nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::str
 nlohmann::json frame_row(const FrameSource& frame,
                          const std::function<void(nlohmann::json& row)>& work) {
   const detail::Stopwatch watch;
-  nlohmann::json row = {{"frame", frame.id}, {"inputs", frame.files()}};
+  const nlohmann::json start = {{"frame", frame.id}, {"inputs", frame.files()}};
+  nlohmann::json row = start;
+  // A frame that fails leaves a row with its error, whatever failed: the batch goes on.
+  const auto failed = [&](const std::string& error) {
+    row = start;
+    row["error"] = error;
+  };
   try {
     work(row);
   } catch (const InputError& e) {
-    row["error"] = e.what();
+    failed(e.what());
+  } catch (const std::bad_alloc&) {
+    failed(frame.files().front() + ": out of memory (the frame needs more memory than the " +
+           "process could allocate)");
+  } catch (const std::exception& e) {
+    failed(frame.files().front() + ": " + e.what());
   }
   row["ms"] = watch.ms();
   // Memory after each frame: a batch must not grow (docs/robustness.md).
@@ -111,6 +178,7 @@ nlohmann::json segment_frame(const FrameSource& source, const SegmentJob& job) {
   return frame_row(source, [&](nlohmann::json& row) {
     const std::string prefix = output_prefix(job.out_dir, source.id);
     const Frame frame = read_frame(source);
+    check_memory(frame, job.params, source.files().front());
     SegmentParams params = job.params;
     if (job.frame_threads > 0) params.threads = job.frame_threads;
     const SegmentResult result = segment(frame, params);
@@ -144,10 +212,17 @@ void check_output_folder(const std::vector<std::string>& sources,
       throw InputError("output folder " + out_dir + " is inside the input folder " + s +
                        " (a later batch would take its outputs for frames)");
   }
-  for (const auto& f : frames)
+  std::map<std::string, std::string> stems;  // output stem -> frame id
+  for (const auto& f : frames) {
     for (const std::string& file : f.files())
       if (inside(file, out_dir))
         throw InputError("output folder " + out_dir + " holds the input " + file);
+    const auto [it, fresh] = stems.emplace(output_stem(f.id), f.id);
+    if (!fresh)
+      throw InputError("frames " + it->second + " and " + f.id + " would both write " +
+                       (fs::path(out_dir) / it->first).string() +
+                       ".* (expected one frame per output name; rename one)");
+  }
 }
 
 std::string summary_name(int shard_index, int shard_count) {
@@ -171,11 +246,14 @@ SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
   }
   try {
     nlohmann::json earlier;  // the last run's header
-    const std::size_t whole = resume ? for_each_line(path_,
-                                                     [&](nlohmann::json& line) {
-                                                       if (line.contains("header"))
-                                                         earlier = std::move(line["header"]);
-                                                     })
+    // Damaged lines stay (finished_frames reports them); a half-written last one goes.
+    const std::size_t whole = resume ? for_each_line(
+                                           path_,
+                                           [&](nlohmann::json& line) {
+                                             if (line.contains("header"))
+                                               earlier = std::move(line["header"]);
+                                           },
+                                           [](const std::string&, const std::string&) {})
                                      : 0;
     if (!earlier.is_null())
       if (const std::string diff = header_difference(earlier, header); !diff.empty())
@@ -220,18 +298,25 @@ std::vector<std::string> summary_logs(const std::string& out_dir) {
   return logs;
 }
 
-std::set<std::string> finished_frames(const std::string& out_dir) {
+std::set<std::string> finished_frames(const std::string& out_dir,
+                                      std::vector<std::string>* damaged) {
   // Per frame its last row's files and sizes (none for an error): small, however long the log.
   std::map<std::string, std::vector<std::pair<std::string, std::uintmax_t>>> last;
   for (const std::string& log : summary_logs(out_dir))
-    for_each_line(log, [&](const nlohmann::json& line) {
-      if (!line.contains("frame")) return;
-      auto& files = last[line["frame"].get<std::string>()];
-      files.clear();
-      if (line.contains("error") || !line.contains("outputs")) return;
-      for (const auto& [file, bytes] : line["outputs"].items())
-        files.emplace_back(file, bytes.get<std::uintmax_t>());
-    });
+    for_each_line(
+        log,
+        [&](const nlohmann::json& line) {
+          if (!line.contains("frame")) return;
+          auto& files = last[line["frame"].get<std::string>()];
+          files.clear();
+          if (line.contains("error") || !line.contains("outputs")) return;
+          for (const auto& [file, bytes] : line["outputs"].items())
+            files.emplace_back(file, bytes.get<std::uintmax_t>());
+        },
+        [&](const std::string& message, const std::string& frame) {
+          if (!frame.empty()) last[frame].clear();  // may have been its last row: done again
+          if (damaged) damaged->push_back(skipped(message, frame));
+        });
   std::set<std::string> done;
   for (const auto& [id, files] : last) {
     bool whole = !files.empty();
@@ -250,7 +335,7 @@ std::size_t remove_stale_temporaries(const std::string& out_dir,
   std::set<std::pair<std::string, std::string>> mine;  // (folder, ".<name>.")
   std::set<std::string> folders;
   for (const FrameSource& f : frames) {
-    const fs::path prefix = fs::path(out_dir) / f.id;
+    const fs::path prefix = fs::path(out_dir) / output_stem(f.id);
     mine.emplace(prefix.parent_path().string(), "." + prefix.filename().string() + ".");
     folders.insert(prefix.parent_path().string());
   }
@@ -300,24 +385,35 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
   int shard_count = 1;
   bool interrupted = false;
   double peak = 0;
-  nlohmann::json shards = nlohmann::json::array(), log_names = nlohmann::json::array();
+  nlohmann::json shards = nlohmann::json::array(), log_names = nlohmann::json::array(),
+                 damaged_lines = nlohmann::json::array();
   for (const std::string& log : logs) {
     nlohmann::json header;
     bool ended = false;
-    for_each_line(log, [&](nlohmann::json& line) {
-      if (line.contains("header")) {
-        header = line["header"];
-        ended = false;
-      } else if (line.contains("end")) {
-        ended = true;
-        interrupted = interrupted || line["end"].value("interrupted", false);
-        peak = std::max(peak, line["end"].value("peak_rss_mib", 0.0));
-      } else if (line.contains("frame")) {
-        FrameState& state = states[line["frame"].get<std::string>()];
-        state.bytes = bytes_of(line);
-        state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
-      }
-    });
+    for_each_line(
+        log,
+        [&](nlohmann::json& line) {
+          if (line.contains("header")) {
+            header = line["header"];
+            ended = false;
+          } else if (line.contains("end")) {
+            ended = true;
+            const nlohmann::json& end = line["end"];
+            interrupted =
+                interrupted || (end.contains("interrupted") && end["interrupted"] != false);
+            if (end.contains("peak_rss_mib") && end["peak_rss_mib"].is_number())
+              peak = std::max(peak, end["peak_rss_mib"].get<double>());
+          } else if (line.contains("frame")) {
+            FrameState& state = states[line["frame"].get<std::string>()];
+            state.bytes = bytes_of(line);
+            state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
+          }
+        },
+        [&](const std::string& message, const std::string& frame) {
+          // A frame whose last row was damaged has no row: missing (done again by --resume).
+          if (!frame.empty()) states.erase(frame);
+          damaged_lines.push_back(skipped(message, frame));
+        });
     if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
     if (first.is_null()) first = header;
     if (const std::string diff = header_difference(first, header); !diff.empty())
@@ -370,6 +466,7 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
                             {"peak_rss_mib", peak},
                             {"bytes_written", bytes},
                             {"failed", failed},
+                            {"damaged_lines", damaged_lines},
                             {"proxseg", first["proxseg"]},
                             {"outputs", first["outputs"]},
                             {"database", first.value("database", nlohmann::json())},
@@ -382,11 +479,16 @@ nlohmann::json frame_rows(const std::string& out_dir) {
   std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
       natural_less);
   for (const std::string& log : summary_logs(out_dir))
-    for_each_line(log, [&](nlohmann::json& line) {
-      if (!line.contains("frame")) return;
-      const std::string id = line["frame"];  // before the move below (C++17 order)
-      rows[id] = std::move(line);
-    });
+    for_each_line(
+        log,
+        [&](nlohmann::json& line) {
+          if (!line.contains("frame")) return;
+          const std::string id = line["frame"];  // before the move below (C++17 order)
+          rows[id] = std::move(line);
+        },
+        [&](const std::string&, const std::string& frame) {
+          if (!frame.empty()) rows.erase(frame);
+        });
   nlohmann::json out = nlohmann::json::array();
   for (auto& [id, row] : rows) out.push_back(std::move(row));
   return out;

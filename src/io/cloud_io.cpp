@@ -25,6 +25,7 @@
 #include <string_view>
 
 #include "image_io.hpp"
+#include "input_file.hpp"
 #include "lzf.hpp"
 #include "ply_io.hpp"
 #include "text_fields.hpp"
@@ -65,24 +66,13 @@ std::string one_line(std::string s) {
   return s;
 }
 
-// Checks that path names an existing regular file (InputError otherwise).
+// Checks that path names a regular file (FileError otherwise: missing, a folder, a FIFO, ...).
 void require_file(const std::string& path) {
-  std::error_code ec;
-  const auto st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found)
-    fail_file(path, "file not found (expected an existing file)");
-  if (ec) fail_file(path, "cannot access (" + ec.message() + ")");
-  if (fs::is_directory(st)) fail_file(path, "is a directory (expected a file)");
+  detail::require_regular_file(path);
 }
 
 std::string read_whole_file(const std::string& path) {
-  require_file(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, std::string("cannot open (") + std::strerror(errno) + ")");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) fail(path, "read error (expected a readable file)");
-  return ss.str();
+  return detail::read_input_file(path);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -197,8 +187,10 @@ PcdHeader parse_pcd_header(const std::string& path, const std::string& text) {
     const std::vector<std::string_view> args(tok.begin() + 1, tok.end());
     auto one_uint = [&](const char* what) {
       std::uint64_t v = 0;
-      if (args.size() != 1 || !parse_u64(args[0], v) || v > std::numeric_limits<int>::max())
-        bad(std::string(what));
+      if (args.size() != 1 || !parse_u64(args[0], v)) bad(std::string(what));
+      if (v > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+        fail(path, where + key + " " + std::string(args[0]) +
+                       " is too large (expected at most 2147483647, 2^31 - 1)");
       return v;
     };
     if (key == "VERSION") {
@@ -501,6 +493,24 @@ void read_pcd_binary(const std::string& path, const std::string& text, const Pcd
   }
 }
 
+// The header is read from the first kPcdHeaderBytes of a file: it must end within them.
+constexpr std::size_t kPcdHeaderBytes = std::size_t{1} << 20;
+
+// The most bytes a PCD can need, from its header in `text` (the file's first bytes): header and
+// data, as the header promises them. ascii data promises no byte count: its bound allows 128
+// characters per value, more than any number written in full.
+std::size_t pcd_promised_bytes(const std::string& path, const std::string& text) {
+  const PcdHeader h = parse_pcd_header(path, text);
+  const std::size_t n = static_cast<std::size_t>(h.points);  // < 2^31
+  if (h.data == "binary") return h.data_start + n * h.point_size;
+  if (h.data == "binary_compressed") {
+    if (text.size() < h.data_start + 8) return h.data_start + 8;  // read_pcd_data says truncated
+    return h.data_start + 8 +
+           load<std::uint32_t>(reinterpret_cast<const unsigned char*>(text.data()) + h.data_start);
+  }
+  return h.data_start + n * (h.values_per_line + 1) * 128 + kPcdHeaderBytes;
+}
+
 Frame read_pcd_data(const std::string& path, const std::string& text,
                     const std::string& label_field) {
   const PcdHeader h = parse_pcd_header(path, text);
@@ -598,7 +608,12 @@ std::string size_str(const cv::Mat& m) {
 }  // namespace
 
 Frame read_pcd(const std::string& path, const std::string& label_field) {
-  return read_pcd_data(path, read_whole_file(path), label_field);
+  // The header first; then only as many bytes as it promises (a file far longer than its header
+  // says, or no PCD at all, is not read to its end).
+  std::string text = detail::read_input_file(path, kPcdHeaderBytes);
+  const std::size_t want = pcd_promised_bytes(path, text);
+  if (want > text.size()) text = detail::read_input_file(path, want);
+  return read_pcd_data(path, text, label_field);
 }
 
 // Colours as Open3D's reader gave them (the stored value / 255, then back to 0..255).

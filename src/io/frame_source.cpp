@@ -4,6 +4,8 @@
 
 #include <fnmatch.h>
 
+#include <functional>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -14,6 +16,8 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+
+#include "input_file.hpp"
 
 namespace proxseg {
 namespace fs = std::filesystem;
@@ -108,6 +112,27 @@ class Collector {
     return true;
   }
 
+  // A folder entry that cannot be read (walk): a frame that fails, when it is named like one or
+  // may have been one (a link that leads nowhere, a folder that cannot be listed).
+  void add_unreadable(const fs::path& entry, const std::string& why, bool always,
+                      const std::string& origin) {
+    const fs::path p = normal(entry);
+    std::string base, id;
+    fs::path key;
+    if (is_cloud(p))
+      key = fs::path(p).replace_extension();
+    else if (match_pattern(color_, p.generic_string(), base, id))
+      key = base + id;
+    else if (always)
+      key = p;
+    else
+      return;
+    FrameSource s;
+    s.unreadable = p.string();
+    s.problem = why;
+    found_.push_back({key, s, origin});
+  }
+
   // A list line "COLOR DEPTH [CAMERA]" (relative to the list's folder).
   void add_pair(const fs::path& dir, const std::vector<std::string>& f, const std::string& origin) {
     FrameSource s;
@@ -138,22 +163,65 @@ bool hidden(const fs::path& p) {
   return name.size() > 1 && name[0] == '.';
 }
 
-// Every regular file under dir (not hidden, no symbolic links to folders followed), sorted.
-std::vector<fs::path> walk(const fs::path& dir) {
+// An entry of a folder that is neither a regular file nor a folder to walk into.
+struct Unreadable {
+  fs::path path;
+  std::string why;  // not_a_regular_file's words, or why the folder cannot be listed
+  bool always;      // a frame even when not named like one (a dangling link or a link loop
+                    // may have been anything; a folder that cannot be listed may hold frames)
+};
+
+// What walk finds under a folder: its regular files (sorted), and the entries it cannot read.
+struct Walk {
   std::vector<fs::path> files;
+  std::vector<Unreadable> unreadable;
+};
+
+// Walks dir recursively (hidden entries skipped, links to folders not followed); an entry that
+// cannot be read is noted and the walk goes on.
+void walk_into(const fs::path& dir, Walk& w) {
   std::error_code ec;
-  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
-  if (ec) throw FileError(dir.string() + ": cannot read the folder (" + ec.message() + ")");
-  for (; it != end; it.increment(ec)) {
-    if (ec) throw FileError(dir.string() + ": cannot read the folder (" + ec.message() + ")");
-    if (hidden(it->path())) {
-      if (it->is_directory()) it.disable_recursion_pending();
-      continue;
-    }
-    if (it->is_regular_file()) files.push_back(it->path());
+  fs::directory_iterator it(dir, ec), end;
+  if (ec) {
+    w.unreadable.push_back({dir, "cannot read the folder (" + ec.message() + ")", true});
+    return;
   }
-  std::sort(files.begin(), files.end());
-  return files;
+  for (; it != end; it.increment(ec)) {
+    if (ec) {
+      w.unreadable.push_back({dir, "cannot read the folder (" + ec.message() + ")", true});
+      return;
+    }
+    const fs::path& p = it->path();
+    if (hidden(p)) continue;
+    std::error_code link_ec, st_ec;
+    const fs::file_status link = it->symlink_status(link_ec);
+    const fs::file_status st = it->status(st_ec);
+    if (fs::is_symlink(link) && (st_ec || st.type() == fs::file_type::not_found)) {
+      w.unreadable.push_back({p, detail::not_a_regular_file(p.string()), true});
+    } else if (fs::is_directory(link)) {
+      walk_into(p, w);
+    } else if (fs::is_regular_file(st)) {
+      w.files.push_back(p);
+    } else if (!fs::is_directory(st)) {  // a FIFO, socket or device (or a link to one)
+      w.unreadable.push_back({p, detail::not_a_regular_file(p.string()), false});
+    }
+  }
+}
+
+Walk walk(const fs::path& dir) {
+  Walk w;
+  std::error_code ec;
+  fs::directory_iterator probe(dir, ec);
+  if (ec) throw FileError(dir.string() + ": cannot read the folder (" + ec.message() + ")");
+  walk_into(dir, w);
+  std::sort(w.files.begin(), w.files.end());
+  return w;
+}
+
+// Every frame of a walk into c.
+void add_walk(const Walk& w, const std::string& origin, Collector& c) {
+  for (const fs::path& f : w.files) c.add_file(f, origin);
+  for (const Unreadable& u : w.unreadable) c.add_unreadable(u.path, u.why, u.always, origin);
 }
 
 bool has_wildcard(const std::string& s) {
@@ -190,13 +258,20 @@ void add_glob(const std::string& glob, Collector& c) {
   std::error_code ec;
   if (!fs::is_directory(root, ec))
     throw FileError(glob + ": no folder " + root.string() + " (expected a glob of existing files)");
-  for (const fs::path& f : walk(root))
-    if (glob_match(pattern, 0, split(f.lexically_relative(root).string()), 0)) c.add_file(f, glob);
+  Walk w = walk(root);
+  const auto matches = [&](const fs::path& f) {
+    return glob_match(pattern, 0, split(f.lexically_relative(root).string()), 0);
+  };
+  w.files.erase(std::remove_if(w.files.begin(), w.files.end(), std::not_fn(matches)),
+                w.files.end());
+  w.unreadable.erase(std::remove_if(w.unreadable.begin(), w.unreadable.end(),
+                                    [&](const Unreadable& u) { return !matches(u.path); }),
+                     w.unreadable.end());
+  add_walk(w, glob, c);
 }
 
 void add_list(const fs::path& list, Collector& c) {
-  std::ifstream in(list);
-  if (!in) throw FileError(list.string() + ": cannot open the list file");
+  std::istringstream in(detail::read_input_file(list.string()));
   const fs::path dir = list.parent_path();
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
@@ -216,7 +291,9 @@ void add_list(const fs::path& list, Collector& c) {
     std::istringstream words(entry);
     std::vector<std::string> f;
     for (std::string w; words >> w;) f.push_back(w);
-    if (f.size() == 1) throw FileError(where + ": " + entry + ": no such file");
+    if (f.size() == 1)
+      throw FileError(where + ": " + entry + ": " +
+                      detail::not_a_regular_file((dir / entry).string()));
     if (f.size() > 3)
       throw InputError(where + ": " + std::to_string(f.size()) +
                        " words (expected a frame, or \"COLOR DEPTH [CAMERA.json]\")");
@@ -268,6 +345,7 @@ fs::path common_folder(const std::vector<Found>& found) {
 }  // namespace
 
 std::vector<std::string> FrameSource::files() const {
+  if (!unreadable.empty()) return {unreadable};
   if (!cloud.empty()) return {cloud};
   std::vector<std::string> f = {color, depth};
   if (!camera.empty()) f.push_back(camera);
@@ -284,10 +362,13 @@ std::vector<FrameSource> discover_frames(const std::vector<std::string>& sources
     if (has_wildcard(source) && !fs::exists(source, ec)) {
       add_glob(source, c);
     } else if (fs::is_directory(source, ec)) {
-      for (const fs::path& f : walk(source)) c.add_file(f, source);
+      add_walk(walk(source), source, c);
       if (sources.size() == 1) root = normal(source);
     } else if (fs::is_regular_file(source, ec)) {
       if (!c.add_file(source, source)) add_list(source, c);  // a frame, else a list of them
+    } else if (fs::symlink_status(source, ec).type() != fs::file_type::not_found) {
+      throw FileError(source + ": " + detail::not_a_regular_file(source) +
+                      "; expected a folder, a list file, a glob or a .pcd/.ply file");
     } else {
       throw FileError(source +
                       ": no such file or folder (expected a folder, a list file, a glob or a "
@@ -342,14 +423,13 @@ std::vector<FrameSource> shard_frames(const std::vector<FrameSource>& frames, in
 }
 
 Intrinsics read_camera(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw FileError(path + ": cannot open the camera file");
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  const nlohmann::json j = nlohmann::json::parse(detail::read_input_file(path), nullptr, false);
   if (j.is_object() && j.contains("intrinsic_matrix")) return read_ycb_meta(path);
   return read_intrinsics(path);
 }
 
 Frame read_frame(const FrameSource& s) {
+  if (!s.unreadable.empty()) throw FileError(s.unreadable + ": " + s.problem);
   if (!s.cloud.empty()) return read_point_cloud(s.cloud);
   if (s.camera.empty())
     throw InputError(s.color +

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "image_io.hpp"
+#include "input_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -61,24 +62,17 @@ std::string quote(std::string_view s, std::size_t max_len = 60) {
   return "'" + out + "'";
 }
 
-// Checks that path names an existing regular file; `named_by` says where the name came from.
+// Checks that path names a regular file; `named_by` says where the name came from.
 void require_file(const std::string& path, const std::string& named_by) {
-  std::error_code ec;
-  const auto st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found)
-    fail_file(path, "file not found (expected an existing file" + named_by + ")");
-  if (ec) fail_file(path, "cannot access (" + ec.message() + ")");
-  if (fs::is_directory(st)) fail_file(path, "is a directory (expected a file" + named_by + ")");
+  std::string why = detail::not_a_regular_file(path);
+  if (why.empty()) return;
+  if (!named_by.empty() && why.back() == ')') why.insert(why.size() - 1, named_by);
+  fail_file(path, why);
 }
 
 std::string read_text(const std::string& path, const std::string& named_by) {
   require_file(path, named_by);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail_file(path, std::string("cannot open (") + std::strerror(errno) + ")");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) fail(path, "read error (expected a readable file)");
-  return ss.str();
+  return detail::read_input_file(path);
 }
 
 // The line of `all` that starts at pos (without its '\n' and anything from a '#' comment on);

@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "input_file.hpp"
+
 namespace proxseg {
 
 void to_json(nlohmann::json& j, MrfMethod m) {
@@ -112,6 +114,7 @@ void fields(P& p, F&& f) {
   f("selection", "container_min_depth", p.selection.container_min_depth);
   f("", "paper_labels", p.paper_labels);
   f("", "threads", p.threads);
+  f("", "max_memory_mib", p.max_memory_mib);
 }
 
 // The same for recognition [3.4].
@@ -278,10 +281,9 @@ const auto kSegmentFields = [](auto& p, auto&& f) { fields(p, f); };
 const auto kRecognitionFields = [](auto& p, auto&& f) { recognition_fields(p, f); };
 
 json read_json_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw FileError(path + ": cannot open config file");
+  const std::string text = detail::read_input_file(path);
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const json::exception& e) {  // parse errors, and numbers out of range (out_of_range.406)
     throw InputError(path + ": not valid JSON (" + e.what() + ")");
   }

@@ -1,6 +1,7 @@
 // Recognition [paper 3.4, Algorithm 3].
 #include <proxseg/recognition/recognition.hpp>
 
+#include "util/first_error.hpp"
 #include "util/splitmix.hpp"
 #include "util/stopwatch.hpp"
 
@@ -197,8 +198,10 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
   const int m = static_cast<int>(views.size());
   for (int begin = 0; begin < m; begin += kBatch) {
     const int end = std::min(m, begin + kBatch);
+    detail::FirstError failure;  // out of memory in one alignment: the candidate fails
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = begin; k < end; ++k) {
+      if (failure.failed()) continue;
       const int v = views[k];
       const Cloud* view = nullptr;
       try {  // a stored view is read here, the first time it is shortlisted
@@ -206,17 +209,26 @@ Recognition recognize(const Cloud& candidate, const Database& db, const Recognit
       } catch (const InputError& e) {
         unreadable[k] = e.what();
         continue;
+      } catch (...) {
+        failure.capture();
+        continue;
       }
-      r.alignments[v] = align(candidate, sample, *view, params.registration,
-                              mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
-      if (scene && params.free_space_tolerance > 0) {
-        Alignment& a = r.alignments[v];
-        a.free_space = free_space_violation(*scene, *view, a.pose, params.free_space_tolerance);
-        a.border_unexplained = border_unexplained(*scene, candidate, *view, a.pose,
-                                                  params.registration.fitness_distance);
+      try {
+        r.alignments[v] = align(candidate, sample, *view, params.registration,
+                                mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
+        if (scene && params.free_space_tolerance > 0) {
+          Alignment& a = r.alignments[v];
+          a.free_space = free_space_violation(*scene, *view, a.pose, params.free_space_tolerance);
+          a.border_unexplained = border_unexplained(*scene, candidate, *view, a.pose,
+                                                    params.registration.fitness_distance);
+        }
+      } catch (...) {
+        failure.capture();
+        continue;
       }
       done[v] = 1;
     }
+    failure.rethrow();
     r.views_aligned = end;
     if (params.early_exit > 0) {
       bool good = false;
@@ -423,13 +435,20 @@ std::vector<Piece> recognise_candidates(const Selection& selection,
   std::vector<char> made(candidates.size(), 0);
   const int threads =
       recognise.params.threads > 0 ? recognise.params.threads : omp_get_max_threads();
+  detail::FirstError failure;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int i = 0; i < static_cast<int>(by_size.size()); ++i) {
+    if (failure.failed()) continue;
     const int k = by_size[i];
     const Candidate& c = *candidates[k];
-    made[k] =
-        recognise(scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate), first[k]);
+    try {
+      made[k] = recognise(scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate),
+                          first[k]);
+    } catch (...) {
+      failure.capture();
+    }
   }
+  failure.rethrow();
   std::vector<Piece> pieces;
   for (std::size_t k = 0; k < first.size(); ++k)
     if (made[k]) pieces.push_back(std::move(first[k]));

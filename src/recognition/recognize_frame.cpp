@@ -14,6 +14,7 @@ nlohmann::json recognize_frame(const FrameSource& source, const RecognizeJob& jo
     const detail::Stopwatch whole;
     const std::string prefix = output_prefix(job.out_dir, source.id);
     const Frame frame = read_frame(source);
+    check_memory(frame, job.segmentation, source.files().front());
     detail::Stopwatch step;
     const SegmentResult result = segment(frame, job.segmentation);
     const double segment_ms = step.lap();

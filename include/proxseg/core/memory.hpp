@@ -11,8 +11,10 @@ namespace proxseg {
 // thresholds (mallopt), and reserves the heap's address space in one step with transparent huge
 // pages advised on it (madvise), so that the first frame's fresh memory costs ~40 page faults
 // instead of ~17k, and keeps every thread on that heap (one arena: a worker thread's own arena
-// would start empty). It affects the whole process; call it once at start-up, before other
-// threads allocate. Does nothing with other C libraries.
+// would start empty). Under an address-space limit (ulimit -v) the reservation and the heap's
+// growth steps shrink to a part of what the limit leaves, so that they never make an allocation
+// fail. It affects the whole process; call it once at start-up, before other threads allocate.
+// Does nothing with other C libraries.
 void keep_freed_memory();
 
 // Resident memory of this process now, and its peak so far, in MiB (Linux: /proc/self/statm and

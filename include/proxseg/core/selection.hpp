@@ -154,10 +154,10 @@ struct Selection {
 
 // point_labels: per point, 0 = invalid, else the segmentation label (every point of a voxel has
 // its voxel's label). Instances are numbered by their smallest point index, so the numbering does
-// not depend on threads.
+// not depend on threads (0 = all cores).
 Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
                             const std::vector<std::uint32_t>& point_labels,
-                            const SelectionParams& params);
+                            const SelectionParams& params, int threads = 0);
 
 // Selection on the image grid of an organized frame (SelectionParams::Geometry::kImage): the
 // support plane within the sensor's noise, then connected components of the remaining pixels

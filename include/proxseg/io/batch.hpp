@@ -26,22 +26,27 @@ struct SegmentJob {
 
 // One frame of a batch, start to end: reads it, segments it, writes its outputs (all or none).
 // Returns its summary row: {"frame": id, "inputs": [files], "outputs": {file relative to
-// out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. An InputError (a frame that cannot be
-// read or written) does not propagate: the row then has "error" (the message, which names the
-// file) instead of outputs, and nothing of the frame is written.
+// out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. A failure (a frame that cannot be read
+// or written, memory exhausted, ...) does not propagate: the row then has "error" (the message,
+// which names the file) instead of outputs, and nothing of the frame is written.
 nlohmann::json segment_frame(const FrameSource& frame, const SegmentJob& job);
 // The pieces a frame's job is made of (segment_frame, recognize_frame in
-// proxseg/recognition/recognize_frame.hpp): OUT_DIR/<id> with its folder made (FileError when it
-// cannot be); {file relative to out_dir: bytes} of the files just written; the row around the
-// work: "frame", "inputs", then what work adds or "error" (an InputError's message), "ms" and
-// "rss_mib".
+// proxseg/recognition/recognize_frame.hpp): OUT_DIR/<output_stem(id)> with its folder made
+// (FileError when it cannot be); {file relative to out_dir: bytes} of the files just written; the
+// row around the work: "frame", "inputs", then what work adds or "error" (an exception's message,
+// naming the frame's first input; "out of memory" for std::bad_alloc), "ms" and "rss_mib".
 std::string output_prefix(const std::string& out_dir, const std::string& id);
+// The name of a frame's outputs in out_dir: its id, except where the outputs would take the
+// batch's own names (summary.json, summary.jsonl, summary.shard-I-of-N.*): a frame named
+// "summary" or "summary.<anything>" at the top writes "<id>-frame.*" instead.
+std::string output_stem(const std::string& id);
 nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files);
 nlohmann::json frame_row(const FrameSource& frame,
                          const std::function<void(nlohmann::json& row)>& work);
 
-// The outputs must stay out of the inputs: InputError when out_dir is inside a source folder (a
-// later batch would take its outputs for frames) or holds an input file.
+// The outputs must stay out of the inputs and apart: InputError when out_dir is inside a source
+// folder (a later batch would take its outputs for frames) or holds an input file, or when two
+// frames would write the same outputs (a frame "summary" beside one "summary-frame").
 void check_output_folder(const std::vector<std::string>& sources,
                          const std::vector<FrameSource>& frames, const std::string& out_dir);
 
@@ -78,7 +83,11 @@ class SummaryLog {
 
 // The frames of earlier runs into out_dir that need no more work: those whose last row, in any
 // OUT/summary*.jsonl, has no error and whose output files all exist with the sizes it recorded.
-std::set<std::string> finished_frames(const std::string& out_dir);
+// A damaged line (not JSON, or not a header, row or end as batches write them) is skipped: the
+// frame it may have named is not finished (done again), and a message per line ("LOG:LINE:
+// damaged line (why); skipped, frame ID is done again") goes to *damaged when given.
+std::set<std::string> finished_frames(const std::string& out_dir,
+                                      std::vector<std::string>* damaged = nullptr);
 
 // Removes what a killed run left of the given frames' outputs in out_dir: the hidden temporary
 // files of write_files_atomic (".NAME.tmp.PID.N" beside each output). Only these frames': another
@@ -90,13 +99,14 @@ std::size_t remove_stale_temporaries(const std::string& out_dir,
 // log's "I/N" or null), "logs" (their file names), "frames_total", "frames_done",
 // "frames_failed", "frames_missing" (total - done - failed), "interrupted" (a log whose last run
 // did not end), "peak_rss_mib", "bytes_written" (by the frames' last rows), "failed" (the last
-// row of each failed frame, in natural order of ids), "proxseg", "parameters", "outputs",
-// "database"}. Every frame's row stays in the logs (frame_rows reads them): the summary's size
-// and the memory it takes do not grow with the frames done. whole_batch = false (one shard's
-// own summary): frames_total counts the logs' frames. true (`proxseg summary`, merging shards):
-// the whole batch's frames, and "shards_missing" lists the shards without a log. InputError when
-// the logs' headers disagree on the command, outputs, parameters or database, or a log has no
-// header.
+// row of each failed frame, in natural order of ids), "damaged_lines" (finished_frames' messages
+// for the logs' damaged lines, which are skipped; a frame whose last row is damaged counts as
+// missing), "proxseg", "parameters", "outputs", "database"}. Every frame's row stays in the logs
+// (frame_rows reads them): the summary's size and the memory it takes do not grow with the frames
+// done. whole_batch = false (one shard's own summary): frames_total counts the logs' frames. true
+// (`proxseg summary`, merging shards): the whole batch's frames, and "shards_missing" lists the
+// shards without a log. InputError when the logs' headers disagree on the command, outputs,
+// parameters or database, or a log has no header.
 nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch);
 // Every OUT/summary*.jsonl, sorted.
 std::vector<std::string> summary_logs(const std::string& out_dir);

@@ -34,6 +34,11 @@ struct FrameSource {
   std::string cloud;         // .pcd or .ply; empty for an RGB-D pair
   std::string color, depth;  // an RGB-D pair
   std::string camera;        // the pair's camera JSON (read_camera); empty: reading fails
+  // An entry of a folder that cannot be read as a frame: a symbolic link loop, a dangling link,
+  // a folder that cannot be listed, or a special file (FIFO, device) named like a frame. It
+  // stays in the batch so that its row reports it: `problem` says what it is, `unreadable` is
+  // its path, and read_frame throws FileError with both. Empty for a readable frame.
+  std::string unreadable, problem;
   std::vector<std::string> files() const;  // the input files, in the order above
 };
 
@@ -41,6 +46,8 @@ struct FrameSource {
 // as numbers: scene2 before scene10). A source is:
 // - a folder: every .pcd and .ply file under it, and every RGB-D pair whose colour image matches
 //   naming.color, recursively (hidden entries and symbolic links to folders are not followed);
+//   an entry that cannot be read (see FrameSource::unreadable) is a frame that fails, not an
+//   error of the whole batch;
 // - a glob, when it holds *, ? or [...]: the files whose paths match it ('*' and '?' do not cross
 //   '/', "**/" matches any number of folders), kept when they are clouds or colour images;
 // - a .pcd or .ply file, or a colour image named by naming.color: that frame;
@@ -49,7 +56,8 @@ struct FrameSource {
 //   are relative to the list's folder; blank lines and lines starting with '#' are skipped.
 // Ids are relative to the root: the folder itself when the only source is a folder, else the
 // deepest folder that holds every frame. InputError (naming the source, or the list file and
-// line) for a source that does not exist, a list line that is not a frame, no frame at all, or
+// line, and what the entry is when it is no file: a folder, a FIFO, a link loop) for a source
+// that does not exist, a list line that is not a frame, no frame at all, or
 // two frames with one id (e.g. a.pcd and a.ply: their outputs would overwrite each other).
 std::vector<FrameSource> discover_frames(const std::vector<std::string>& sources,
                                          const RgbdNaming& naming = {});
