@@ -190,6 +190,17 @@ def test_the_command_line_entry_point(dataset, cli_batch, tmp_path):
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["frames_done"] == YCB
     assert "2 done before" in r.stderr
+    # A damaged line in the log: a warning with its file and line; the line is skipped.
+    log = tmp_path / "out" / "summary.jsonl"
+    lines = log.read_text().splitlines(keepends=True)
+    log.write_text(lines[0] + "garbage\n" + "".join(lines[1:]))
+    r = subprocess.run([sys.executable, "-m", "proxseg.dask", "segment", "--batch",
+                        str(dataset / "ycb"), "-o", str(tmp_path / "out"), "--workers", "1",
+                        "--threads", "1", "--outputs", "all", "--resume", "--json"],
+                       capture_output=True, text=True, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert "summary.jsonl:2: damaged line (not JSON); skipped" in r.stderr, r.stderr
+    assert json.loads(r.stdout)["frames_done"] == YCB
     # Usage errors exit 2, bad input 1 with the file named.
     r = subprocess.run([sys.executable, "-m", "proxseg.dask", "segment", "-o", "x"],
                        capture_output=True, text=True, env=env)
