@@ -242,6 +242,14 @@ int main(int argc, char** argv) {
         const bool ok = WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0;
         const bool failed =
             WIFEXITED(r.status) && WEXITSTATUS(r.status) == 1 && !error_line(output).empty();
+        // Below what its shared libraries need, the dynamic loader stops before main: exit 127.
+        const bool unloaded =
+            WIFEXITED(r.status) && WEXITSTATUS(r.status) == 127 &&
+            output.find("error while loading shared libraries") != std::string::npos;
+        if (unloaded) {
+          sweep[j].push_back("127");
+          continue;
+        }
         if (!ok && !failed) {
           signalled = true;
           std::cerr << "mem_bench: " << jobs[j].name << " at " << mib
@@ -282,20 +290,23 @@ int main(int argc, char** argv) {
          << " | " << fixed(e.peak) << " | " << fixed(e.estimate / e.peak, 2) << " |\n";
     md << "\n### Address-space limits\n\nEach run under `ulimit -v` (RLIMIT_AS) from "
        << fixed(sweep_from) << " to " << fixed(sweep_to) << " MiB in steps of " << fixed(sweep_step)
-       << " MiB: 0 = done, 1 = stopped with a message (the first is quoted), anything else (a "
+       << " MiB: 0 = done, 1 = stopped with a message (the first is quoted), 127 = the dynamic "
+          "loader could not map the program's libraries (before proxseg runs), anything else (a "
           "signal) is a failure of the benchmark.\n\n"
-       << "| run | limits | exit 0 | exit 1 | other | first message |\n"
-       << "|---|---:|---:|---:|---:|---|\n";
+       << "| run | limits | exit 0 | exit 1 | exit 127 | other | first message |\n"
+       << "|---|---:|---:|---:|---:|---:|---|\n";
     for (std::size_t j = 0; j < jobs.size(); ++j) {
-      std::size_t done = 0, stopped = 0;
+      std::size_t done = 0, stopped = 0, unloaded = 0;
       std::string first;
       for (const std::string& e : sweep[j]) {
         done += e == "0";
-        stopped += e.rfind("1", 0) == 0;
+        unloaded += e == "127";
+        stopped += e == "1" || e.rfind("1: ", 0) == 0;
         if (first.empty() && e.rfind("1: ", 0) == 0) first = e.substr(3);
       }
       md << "| " << jobs[j].name << " | " << limits.size() << " | " << done << " | " << stopped
-         << " | " << limits.size() - done - stopped << " | " << first << " |\n";
+         << " | " << unloaded << " | " << limits.size() - done - stopped - unloaded << " | "
+         << first << " |\n";
     }
     std::ofstream(out) << md.str();
     if (!json_out.empty())
