@@ -12,6 +12,7 @@
 #include <set>
 
 #include "cli_util.hpp"
+#include "fresh_dir.hpp"
 
 namespace {
 using namespace cli_test;
@@ -21,12 +22,9 @@ std::string test_name() {
   return ::testing::UnitTest::GetInstance()->current_test_info()->name();
 }
 
-// A fresh folder for this test.
+// A fresh folder for this test, removed when its process ends.
 fs::path fresh(const std::string& name) {
-  const fs::path dir = kTmp / test_name() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return proxseg::test::fresh_dir("faults-" + test_name() + "-" + name);
 }
 
 #ifdef PROXSEG_SANITIZE
