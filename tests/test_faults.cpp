@@ -235,6 +235,8 @@ TEST(Faults, DamagedSummaryLinesAreReportedSkippedAndTheirFramesRedone) {
   const std::string cut = nlohmann::json::parse(lines[2])["frame"];
   lines[2] = lines[2].substr(0, lines[2].size() / 2);
   lines.insert(lines.begin() + 5, R"({"frame":5})");
+  // And a 4 MB line whose frame name never ends (read without recursing per character).
+  lines.insert(lines.begin() + 6, R"({"frame":")" + std::string(4 << 20, 'a'));
   {
     std::ofstream o(log, std::ios::trunc);
     for (const auto& l : lines) o << l << "\n";
@@ -251,7 +253,8 @@ TEST(Faults, DamagedSummaryLinesAreReportedSkippedAndTheirFramesRedone) {
   const nlohmann::json merged = nlohmann::json::parse(r.out);
   EXPECT_EQ(merged["frames_done"], 5);
   EXPECT_EQ(merged["frames_missing"], 1);
-  EXPECT_EQ(merged["damaged_lines"].size(), 2u);
+  EXPECT_EQ(merged["damaged_lines"].size(), 3u);
+  EXPECT_NE(r.err.find("summary.jsonl:7: damaged line (not JSON); skipped\n"), std::string::npos);
 
   r = run("segment --batch " + data.string() + " -o " + out.string() + " --resume --json");
   EXPECT_EQ(r.code, 0) << r.err;

@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -70,13 +69,20 @@ std::string line_problem(const nlohmann::json& j) {
   return "";
 }
 
-// The frame a damaged line may have named: the string after its first "frame": (""
-// when there is none to read).
+// The frame a damaged line may have named: the JSON string after its first "frame": ("" when
+// there is none to read). Scanned by hand: std::regex recurses per character, and a damaged line
+// may be megabytes long.
 std::string frame_named_in(const std::string& line) {
-  static const std::regex kFrame(R"re("frame"\s*:\s*"((?:[^"\\]|\\.)*)")re");
-  std::smatch m;
-  if (!std::regex_search(line, m, kFrame)) return "";
-  const nlohmann::json id = nlohmann::json::parse("\"" + m[1].str() + "\"", nullptr, false);
+  const std::size_t key = line.find("\"frame\"");
+  if (key == std::string::npos) return "";
+  std::size_t i = line.find_first_not_of(" \t", key + 7);
+  if (i == std::string::npos || line[i] != ':') return "";
+  i = line.find_first_not_of(" \t", i + 1);
+  if (i == std::string::npos || line[i] != '"') return "";
+  std::size_t end = i + 1;
+  while (end < line.size() && line[end] != '"') end += line[end] == '\\' ? 2 : 1;
+  if (end >= line.size()) return "";
+  const nlohmann::json id = nlohmann::json::parse(line.substr(i, end - i + 1), nullptr, false);
   return id.is_string() ? id.get<std::string>() : "";
 }
 
