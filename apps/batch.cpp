@@ -45,9 +45,10 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_flag("--resume", o.resume,
                 "Skip the frames an earlier run into OUT finished (outputs whole, as its "
                 "summary recorded them); a killed run's other frames are done again");
-  cmd->add_option("--color-pattern", o.naming.color,
+  cmd->add_option("--colour-pattern", o.naming.color,
                   "RGB-D pairs in a batch: colour image name, {id} = the frame's name")
       ->capture_default_str();
+  cmd->add_option("--color-pattern", o.naming.color)->group("");  // the other spelling
   cmd->add_option("--depth-pattern", o.naming.depth, "RGB-D pairs: depth image name")
       ->capture_default_str();
   cmd->add_option("--meta-pattern", o.naming.meta,

@@ -1,4 +1,5 @@
 // The pieces shared by the commands of the proxseg CLI (cli.hpp).
+#include <proxseg/core/parameters.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -41,15 +42,68 @@ void say_out_of_memory() {
   const char msg[] = "proxseg: error: out of memory\n";
   [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, msg, sizeof msg - 1);
 }
+// The deepest command given ("proxseg segment"), for "Run ... --help".
+CLI::App* chosen_command(CLI::App& app) {
+  CLI::App* cmd = &app;
+  for (;;) {
+    const auto subs = cmd->get_subcommands();
+    if (subs.empty()) return cmd;
+    cmd = subs.front();
+  }
+}
+
+// What was not understood, for the message: the first unknown flag, or an unknown command.
+std::string not_understood(CLI::App& app, CLI::App* cmd, const CLI::ParseError& e) {
+  std::vector<std::string> extras = cmd->remaining();
+  for (const std::string& x : app.remaining()) extras.push_back(x);
+  std::vector<std::string> flags, commands;
+  for (const CLI::Option* opt : cmd->get_options())
+    if (!opt->get_group().empty())
+      for (const std::string& name : opt->get_lnames()) flags.push_back("--" + name);
+  for (const CLI::App* sub : cmd->get_subcommands([](const CLI::App*) { return true; }))
+    commands.push_back(sub->get_name());
+  auto did_you_mean = [](const std::string& near) {
+    return near.empty() ? std::string() : " (did you mean " + near + "?)";
+  };
+  for (const std::string& x : extras)
+    if (x.rfind("-", 0) == 0) {
+      const std::string word = x.substr(0, x.find('='));
+      return "unknown option " + word + did_you_mean(proxseg::closest_name(word, flags));
+    }
+  if (cmd == &app && !extras.empty())
+    return "unknown command " + extras.front() +
+           did_you_mean(proxseg::closest_name(extras.front(), commands));
+  const std::string what = e.what();
+  if (what.rfind("The following argument", 0) == 0)  // "... was not expected: X" (or were)
+    return "unexpected argument " + what.substr(what.find(": ") + 2);
+  return what;
+}
+
+// "proxseg: error: WHAT" and where the help is, on stderr.
+void say_usage_error(CLI::App& app, const CLI::ParseError& e) {
+  CLI::App* cmd = chosen_command(app);
+  std::string path = cmd->get_name();
+  for (const CLI::App* p = cmd->get_parent(); p; p = p->get_parent())
+    path = p->get_name() + " " + path;
+  std::cerr << "proxseg: error: " << not_understood(app, cmd, e) << "\n"
+            << "Run `" << path << " --help` for the options.\n";
+}
+
 }  // namespace
 
 int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch) {
   try {
     app.parse(argc, argv);
     return dispatch();
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help (code 0) or the usage error
-    return code == 0 ? 0 : 2;
+    say_usage_error(app, e);
+    return 2;
   } catch (const InputError& e) {
     std::cerr << "proxseg: error: " << e.what() << "\n";
     return 1;
@@ -93,8 +147,9 @@ int naming_input(const std::string& input, const char* doing, const std::functio
   }
 }
 
-void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
-  cmd->add_option("--color", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
+void add_scene_options(CLI::App* cmd, SegmentOptions& o, bool recognition) {
+  cmd->add_option("--colour", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
+  cmd->add_option("--color", o.color)->group("");  // the other spelling
   cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
   cmd->add_option("--intrinsics", o.intrinsics,
                   "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
@@ -102,71 +157,12 @@ void add_scene_options(CLI::App* cmd, SegmentOptions& o) {
   cmd->add_option("--preset", o.preset,
                   "Base parameters: default (best measured) or paper (the paper's settings)")
       ->check(CLI::IsMember({"default", "paper"}));
-  cmd->add_flag("--paper-labels", o.paper_labels,
-                "Compute the paper's labels (features, Algorithm 1, k-means, MRF) also where the "
-                "default's image-grid selection does not need them; the flags of those stages "
-                "below switch them on too");
-  cmd->add_flag("--no-mrf", o.no_mrf, "Stop after k-means (no MRF refinement)");
-  cmd->add_option("--mrf-method", o.mrf_method, "MRF moves: swap (paper) or expansion")
-      ->check(CLI::IsMember({"swap", "expansion"}));
-  cmd->add_option("--mrf-cycles", o.mrf_cycles,
-                  "Most MRF sweeps over the labels (default 2; paper: until nothing changes)");
-  cmd->add_option("--voxel-size", o.voxel_size, "Voxel side in metres (paper: 0.02)");
-  cmd->add_option("--min-points", o.min_points, "Voxels with fewer points are not clustered");
-  cmd->add_option("--alpha", o.alpha, "Chi-square confidence of Algorithm 1 (paper: 0.85)");
-  cmd->add_option("--pca-dims", o.pca_dims, "Principal axes kept for clustering");
-  cmd->add_option("--prior-weight", o.prior_weight, "Shrinkage of centroid covariances (voxels)");
-  cmd->add_option("--wu", o.wu, "MRF unary weight w_u (paper: 1.0)");
-  cmd->add_option("--wc", o.wc, "MRF Potts weight w_c (paper: 0.275)");
-  cmd->add_option("--colour-weight", o.colour_weight, "Weight of the colour block");
-  cmd->add_option("--texture-weight", o.texture_weight, "Weight of the texture block");
-  cmd->add_option("--shape-weight", o.shape_weight, "Weight of the shape block");
-  cmd->add_flag("--no-colour", o.no_colour, "Switch the colour block off");
-  cmd->add_flag("--no-texture", o.no_texture, "Switch the texture block off");
-  cmd->add_flag("--no-shape", o.no_shape, "Switch the shape block off");
-  cmd->add_option("--cluster-tolerance", o.cluster_tolerance,
-                  "Euclidean clustering tolerance of the selection, metres");
-  cmd->add_option("--min-candidate-points", o.min_candidate_points,
-                  "Smaller components are not candidates");
-  cmd->add_option("--threads", o.threads,
-                  "Worker threads (0 = all cores; segment --batch: that many frames at once, one "
-                  "thread each); results do not depend on it");
-  cmd->add_option("--max-memory", o.max_memory,
-                  "Refuse a frame whose segmentation would need more memory than this, in MiB "
-                  "(an estimate from its size, checked before it starts; a batch logs it as a "
-                  "failed frame and goes on); 0 = no limit");
+  add_parameter_flags(cmd, o.params, recognition);
 }
 
-// Preset < --config < individual flags.
+// Preset < --config < the parameter flags.
 proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams p) {
-  if (o.voxel_size) p.voxels.voxel_size = *o.voxel_size;
-  if (o.min_points) p.voxels.min_points_per_voxel = *o.min_points;
-  if (o.alpha) p.clustering.alpha = *o.alpha;
-  if (o.pca_dims) p.clustering.pca_dims = *o.pca_dims;
-  if (o.prior_weight) p.clustering.prior_weight = *o.prior_weight;
-  if (o.wu) p.mrf.unary_weight = *o.wu;
-  if (o.wc) p.mrf.pairwise_weight = *o.wc;
-  if (o.colour_weight) p.features.colour_weight = *o.colour_weight;
-  if (o.texture_weight) p.features.texture_weight = *o.texture_weight;
-  if (o.shape_weight) p.features.shape_weight = *o.shape_weight;
-  if (o.no_colour) p.features.use_colour = false;
-  if (o.no_texture) p.features.use_texture = false;
-  if (o.no_shape) p.features.use_shape = false;
-  if (o.no_mrf) p.mrf.enabled = false;
-  if (o.mrf_method)
-    p.mrf.method =
-        *o.mrf_method == "swap" ? proxseg::MrfMethod::kSwap : proxseg::MrfMethod::kExpansion;
-  if (o.mrf_cycles) p.mrf.max_cycles = *o.mrf_cycles;
-  if (o.cluster_tolerance) p.selection.cluster_tolerance = *o.cluster_tolerance;
-  if (o.min_candidate_points) p.selection.min_candidate_points = *o.min_candidate_points;
-  if (o.threads) p.threads = *o.threads;
-  if (o.max_memory) p.max_memory_mib = *o.max_memory;
-  // A flag of stages 2-6 asks for the labels it changes.
-  const bool label_flag = o.voxel_size || o.min_points || o.alpha || o.pca_dims || o.prior_weight ||
-                          o.wu || o.wc || o.colour_weight || o.texture_weight || o.shape_weight ||
-                          o.no_colour || o.no_texture || o.no_shape || o.no_mrf || o.mrf_method ||
-                          o.mrf_cycles;
-  if (o.paper_labels || label_flag) p.paper_labels = true;
+  apply_parameter_flags(o.params, p, nullptr);
   proxseg::validate(p);
   return p;
 }

@@ -3,6 +3,7 @@
 #pragma once
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/recognition_types.hpp>
 #include <proxseg/core/render.hpp>
 
 #include <proxseg/io/frame_source.hpp>
@@ -27,25 +28,40 @@ struct BatchOptions {
   proxseg::RgbdNaming naming;  // --color-pattern, --depth-pattern, --meta-pattern (+ --intrinsics)
 };
 
+// The parameter flags of a command, made from the parameter table (param_flags.cpp): what was
+// given, in the order given, applied over the preset and --config by apply_parameter_flags.
+struct ParamFlags {
+  enum Table { kSegment, kRecognition };
+  struct Given {
+    Table table;
+    std::string key;   // the row's key ("voxels.voxel_size")
+    std::string text;  // the value as given ("true"/"false" for a bool's flag)
+  };
+  std::vector<Given> given;
+  std::vector<std::string> sets;  // --set KEY=VALUE
+};
+// A flag for every row of the segmentation table that names one (and of recognition's when
+// recognition), hidden aliases, and --set.
+void add_parameter_flags(CLI::App* cmd, ParamFlags& out, bool recognition);
+// Sets what flags holds in seg (and rec): a value that does not parse, or an unknown --set key,
+// is a usage error naming the flag (with "did you mean"). Setting a parameter of stages 2-4
+// (voxels, features, clustering, k-means, MRF) asks for the paper's labels, which it changes.
+// The ranges are validate()'s, afterwards.
+void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
+                           proxseg::RecognitionParams* rec);
+
 // The scene input and the segmentation flags of `segment` and `recognize`.
 struct SegmentOptions : BatchOptions {
   std::string input, color, depth, intrinsics, meta;
   std::string outputs = "pcd,png,json";  // --outputs
   std::string preset = "default";
-  bool no_mrf = false;
-  std::optional<std::string> mrf_method;
-  std::optional<int> mrf_cycles;
-  std::optional<double> voxel_size, alpha, prior_weight, wu, wc, colour_weight, texture_weight,
-      shape_weight, cluster_tolerance;
-  std::optional<int> min_points, pca_dims, threads, min_candidate_points;
-  std::optional<double> max_memory;  // --max-memory MIB
-  bool no_colour = false, no_texture = false, no_shape = false;
-  bool paper_labels = false;  // --paper-labels
+  ParamFlags params;
 };
-void add_scene_options(CLI::App* cmd, SegmentOptions& o);
+// The scene's input flags, the preset and the segmentation table's flags (and recognition's).
+void add_scene_options(CLI::App* cmd, SegmentOptions& o, bool recognition = false);
 // Usage checks: INPUT or an RGB-D pair, and no output path equal to an input.
 void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs);
-// base (preset, config) < individual flags; validated.
+// base (preset, config) < the parameter flags; validated.
 proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams base);
 proxseg::Frame read_input(const SegmentOptions& o);
 // One line on stderr when the input has no colour and that takes feature blocks off the
@@ -132,6 +148,14 @@ struct SummaryOptions {
 void add_summary(CLI::App& app, SummaryOptions& o);
 int run_summary(const SummaryOptions& o);
 
+// `proxseg params`: the parameter table
+struct ParamsOptions {
+  std::string table = "all";
+  bool json = false, markdown = false;
+};
+void add_params(CLI::App& app, ParamsOptions& o);
+int run_params(const ParamsOptions& o);
+
 // `proxseg synth`
 struct SynthOptions {
   std::string output;
@@ -174,14 +198,7 @@ int run_db(const DbOptions& o);
 // `proxseg recognize`
 struct RecognizeOptions : SegmentOptions {
   std::string db, output, object, config;
-  std::optional<std::string> score;
-  std::optional<double> min_score, min_margin, confident_score, lone_score, lone_ratio,
-      lookalike_share, early_exit, early_reject, fitness_distance, split_fitness, merge_distance,
-      free_space;
-  std::optional<int> shortlist;
-  std::optional<int> ransac_iterations, icp_iterations;
-  std::optional<std::uint64_t> seed;
-  bool point_to_plane = false, json = false;
+  bool json = false;
 };
 void add_recognize(CLI::App& app, RecognizeOptions& o);
 int run_recognize(const RecognizeOptions& o);

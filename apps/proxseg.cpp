@@ -55,11 +55,14 @@ int main(int argc, char** argv) {
     for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
     SummaryOptions summary;
     add_summary(app, summary);
+    ParamsOptions params;
+    add_params(app, params);
     return run_app(app, argc, argv, [&] {
       if (app.got_subcommand("segment"))
         return naming_input(input_name(segment), "segmenting it",
                             [&] { return run_segment(segment); });
       if (app.got_subcommand("summary")) return run_summary(summary);
+      if (app.got_subcommand("params")) return run_params(params);
       return 2;
     });
   });

@@ -40,49 +40,7 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("--config", o.config,
                   "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults "
                   "(same layout as the report's \"parameters\")");
-  cmd->add_option("--score", o.score,
-                  "Ranking score: colour (symmetric x colour agreement), symmetric (fitness and "
-                  "model coverage, geometry only) or fitness (paper eq. 5)")
-      ->check(CLI::IsMember({"colour", "symmetric", "fitness"}));
-  cmd->add_option("--min-score", o.min_score, "Below this best score the answer is \"unknown\"");
-  cmd->add_option("--min-margin", o.min_margin,
-                  "Below this lead of the best score over the runner-up's the answer is "
-                  "\"unknown\"");
-  cmd->add_option("--confident-score", o.confident_score,
-                  "At or above this best score the --min-margin lead is not asked for");
-  cmd->add_option("--shortlist", o.shortlist,
-                  "Views aligned per candidate: the nearest by signature (0 = every view)");
-  cmd->add_option("--lone-score", o.lone_score,
-                  "A best score under --min-score but at least this still names the object "
-                  "when colour was compared and no other object scores over --lone-ratio of it "
-                  "(0 = off)");
-  cmd->add_option("--lone-ratio", o.lone_ratio,
-                  "The runner-up's largest share of the best score for a lone match");
-  cmd->add_option("--lookalike-share", o.lookalike_share,
-                  "When the runner-up comes within --min-margin, this share of the votes of the "
-                  "points where the two models' colours differ names one of them (0 = off)");
-  cmd->add_option("--early-exit", o.early_exit,
-                  "Stop after the batch of 8 views in which a view reached this score (faster; "
-                  "may change the answer; 0 = align the whole shortlist)");
-  cmd->add_option("--early-reject", o.early_reject,
-                  "Stop after a batch of 8 views when no view so far reached this rank (faster "
-                  "on unknown objects; may change the answer; 0 = align the whole shortlist)");
-  cmd->add_option("--fitness-distance", o.fitness_distance,
-                  "delta_th of eq. 4: a point is explained within this distance, metres");
-  cmd->add_option("--ransac-iterations", o.ransac_iterations, "RANSAC hypotheses per view");
-  cmd->add_option("--icp-iterations", o.icp_iterations, "ICP iterations per view (at most)");
-  cmd->add_flag("--point-to-plane", o.point_to_plane, "Point-to-plane ICP (paper: point-to-point)");
-  cmd->add_option("--split-fitness", o.split_fitness,
-                  "Split a named candidate whose fitness is under this into what its model "
-                  "explains and the rest (0 = never)");
-  cmd->add_option("--merge-distance", o.merge_distance,
-                  "Merge two pieces within this distance (metres) when their union is named with a "
-                  "better score (0 = never)");
-  cmd->add_option("--free-space", o.free_space,
-                  "Scenes: a model put where the sensor saw through it (more than this many metres "
-                  "in front of the measured depth) or off the image scores less (0 = off)");
-  cmd->add_option("--seed", o.seed, "Seed of the RANSAC samples");
-  add_scene_options(cmd, o);
+  add_scene_options(cmd, o, true);
   cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
 }
 
@@ -91,34 +49,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-proxseg::RecognitionParams recognition_params(const RecognizeOptions& o,
-                                              proxseg::RecognitionParams p) {
-  if (o.score)
-    p.score = *o.score == "fitness"     ? proxseg::Score::kFitness
-              : *o.score == "symmetric" ? proxseg::Score::kSymmetric
-                                        : proxseg::Score::kColour;
-  if (o.shortlist) p.shortlist = *o.shortlist;
-  if (o.min_margin) p.min_margin = *o.min_margin;
-  if (o.confident_score) p.confident_score = *o.confident_score;
-  if (o.min_score) p.min_score = *o.min_score;
-  if (o.early_exit) p.early_exit = *o.early_exit;
-  if (o.early_reject) p.early_reject = *o.early_reject;
-  if (o.lone_score) p.lone_score = *o.lone_score;
-  if (o.lone_ratio) p.lone_ratio = *o.lone_ratio;
-  if (o.lookalike_share) p.lookalike_share = *o.lookalike_share;
-  if (o.fitness_distance) p.registration.fitness_distance = *o.fitness_distance;
-  if (o.ransac_iterations) p.registration.ransac_iterations = *o.ransac_iterations;
-  if (o.icp_iterations) p.registration.icp_iterations = *o.icp_iterations;
-  if (o.point_to_plane) p.registration.point_to_plane = true;
-  if (o.split_fitness) p.split_fitness = *o.split_fitness;
-  if (o.merge_distance) p.merge_distance = *o.merge_distance;
-  if (o.free_space) p.free_space_tolerance = *o.free_space;
-  if (o.seed) p.seed = *o.seed;
-  if (o.threads) p.threads = *o.threads;
-  proxseg::validate(p);
-  return p;
 }
 
 // Views recognition found damaged when it read them: the answers come from the others.
@@ -187,8 +117,9 @@ int run_recognize(const RecognizeOptions& o) {
   proxseg::SegmentParams seg = proxseg::preset(o.preset);
   proxseg::RecognitionParams rec;
   if (!o.config.empty()) std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec);
-  seg = segment_params(o, seg);
-  rec = recognition_params(o, rec);
+  apply_parameter_flags(o.params, seg, &rec);
+  proxseg::validate(seg);
+  proxseg::validate(rec);
   if (!o.output.empty() && o.batch.empty())
     make_parent(o.output);  // before the work: an unwritable output fails at once
 

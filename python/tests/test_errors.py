@@ -66,7 +66,7 @@ def test_bad_frames_and_parameters_raise_valueerror():
     frame = proxseg.read_point_cloud(data("mosd/learn/learn0.pcd"))
     with pytest.raises(ValueError, match="no valid points"):
         proxseg.segment(np.full((10, 3), np.nan, np.float32))
-    with pytest.raises(ValueError, match="voxels.voxel_size: expected a positive size"):
+    with pytest.raises(ValueError, match=r"voxels.voxel_size: expected > 0 m, got 0"):
         proxseg.segment(frame, voxel_size=0)
     with pytest.raises(ValueError, match="bogus: no such parameter"):
         proxseg.segment(frame, bogus=1)
