@@ -118,19 +118,30 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   const std::set<std::string> finished =
       o.resume ? proxseg::finished_frames(out_dir, &damaged) : std::set<std::string>{};
   for (const std::string& d : damaged) std::cerr << "proxseg: warning: " << d << "\n";
+  if (!o.resume) {
+    // An earlier run's finished frames are done again: say so before they are overwritten.
+    std::vector<std::string> ignored;
+    std::size_t before = 0;
+    for (const std::string& id : proxseg::finished_frames(out_dir, &ignored))
+      before += std::any_of(frames.begin(), frames.end(),
+                            [&](const proxseg::FrameSource& f) { return f.id == id; });
+    if (before > 0)
+      say() << "proxseg: note: " << out_dir << " holds " << counted(before, "frame")
+                << " an earlier run finished; they are done again (--resume skips them)\n";
+  }
   std::vector<proxseg::FrameSource> todo;
   for (const auto& f : frames)
     if (!finished.count(f.id)) todo.push_back(f);
   const std::string name = proxseg::summary_name(shard, shards);
   proxseg::SummaryLog log(out_dir, name, header, o.resume);  // locked: this shard is ours
   if (o.resume) proxseg::remove_stale_temporaries(out_dir, todo);
-  std::cerr << "proxseg: " << frames.size() << " frames"
+  say() << "proxseg: " << counted(frames.size(), "frame")
             << (shards > 1 ? " in shard " + shard_name + " of " + std::to_string(all.size()) : "")
             << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
             << "\n";
 
   catch_interrupts();
-  Progress progress(todo.size());
+  Progress progress = progress_bar(todo.size());
   const auto start = std::chrono::steady_clock::now();
   std::size_t failed = 0, done = 0;
   // Workers take the next frame until none is left; a row is logged as its frame finishes.
@@ -179,7 +190,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
     std::cout << summary.dump(2) << "\n";
   else
     std::cout << summary_json << ": " << summary["frames_done"].get<std::size_t>() << " of "
-              << frames.size() << " frames done"
+              << counted(frames.size(), "frame") << " done"
               << (failed ? ", " + std::to_string(failed) + " failed" : "")
               << (interrupted() ? " (interrupted)" : "") << "\n";
   if (interrupted()) return kInterruptedExit;
@@ -206,9 +217,9 @@ int run_summary(const SummaryOptions& o) {
   if (o.json)
     std::cout << summary.dump(2) << "\n";
   else
-    std::cout << path << ": " << summary["shards"].size() << " logs, "
+    std::cout << path << ": " << counted(summary["shards"].size(), "log") << ", "
               << summary["frames_done"].get<std::size_t>() << " of "
-              << summary["frames_total"].get<std::size_t>() << " frames done, "
+              << counted(summary["frames_total"].get<std::size_t>(), "frame") << " done, "
               << summary["frames_failed"].get<std::size_t>() << " failed, "
               << summary["frames_missing"].get<std::size_t>() << " missing\n";
   return summary["frames_failed"].get<std::size_t>() +

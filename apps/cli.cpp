@@ -34,6 +34,13 @@ void describe_app(CLI::App& app) {
   app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
                                         proxseg::git_commit() + ")");
   app.require_subcommand(1);
+  // Also after the command (`proxseg segment -q ...`): the commands pass what they do not know
+  // to the program's options.
+  app.fallthrough();
+  app.add_flag_callback("-q,--quiet", [] { set_verbosity(Verbosity::kQuiet); },
+                        "Say only warnings and errors on stderr (no notes, no progress)");
+  app.add_flag_callback("-v,--verbose", [] { set_verbosity(Verbosity::kVerbose); },
+                        "Say also the steps behind a result (recognition's trials)");
 }
 
 namespace {
@@ -177,7 +184,31 @@ proxseg::Frame read_input(const SegmentOptions& o) {
 void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
                            const proxseg::SegmentParams& params) {
   if (const std::string off = proxseg::colourless_note(frame, params.features); !off.empty())
-    std::cerr << "proxseg: " << input << " has no colour: " << off << "\n";
+    say() << "proxseg: " << input << " has no colour: " << off << "\n";
+}
+
+namespace {
+Verbosity& verbosity_setting() {
+  static Verbosity v = Verbosity::kNormal;
+  return v;
+}
+}  // namespace
+
+void set_verbosity(Verbosity v) {
+  verbosity_setting() = v;
+}
+
+Verbosity verbosity() {
+  return verbosity_setting();
+}
+
+std::ostream& say(Verbosity level) {
+  static std::ostream dropped(nullptr);  // no buffer: every output is discarded
+  return verbosity() >= level ? std::cerr : dropped;
+}
+
+std::string counted(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
 void make_parent(const std::string& path) {

@@ -69,6 +69,22 @@ proxseg::Frame read_input(const SegmentOptions& o);
 // are off". Nothing otherwise.
 void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
                            const proxseg::SegmentParams& params);
+// How much the CLI says on stderr: -q/--quiet only warnings and errors, -v/--verbose also the
+// steps behind a result (recognition's split and merge trials). Set once from the command line;
+// process-wide like interrupted().
+enum class Verbosity { kQuiet, kNormal, kVerbose };
+void set_verbosity(Verbosity v);
+Verbosity verbosity();
+// std::cerr when the verbosity is at least `level`, else a stream that drops what it is given:
+// for the CLI's notes and progress lines (warnings and errors always go to std::cerr).
+std::ostream& say(Verbosity level = Verbosity::kNormal);
+// A progress bar of total steps, silent under --quiet.
+inline Progress progress_bar(std::size_t total) {
+  return Progress(total, verbosity() == Verbosity::kQuiet);
+}
+
+// "1 object", "3 objects": n and the noun, plural unless n is 1.
+std::string counted(std::size_t n, const std::string& noun);
 // Creates the parent directory of path (InputError if it cannot).
 void make_parent(const std::string& path);
 

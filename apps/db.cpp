@@ -43,8 +43,12 @@ void add_db(CLI::App& app, DbOptions& o) {
       ->required();
   o.render->add_option("--views", o.render_views, "Number of views (cameras on a sphere)")
       ->check(CLI::Range(1, 1000));
-  o.render->add_option("--units", o.units, "Units of the mesh coordinates: mm or m")
-      ->check(CLI::IsMember({"mm", "m"}));
+  o.render
+      ->add_option("--units", o.units,
+                   "Units of the mesh coordinates: m or mm (a mesh far too large or small for "
+                   "an object in these units is refused, with the other unit suggested)")
+      ->check(CLI::IsMember({"mm", "m"}))
+      ->capture_default_str();
   o.render->add_option("--distance", o.distance,
                        "Camera distance from the mesh centre, metres (0 = automatic)");
   o.render->add_option("--noise", o.noise, "Depth noise std at 1 m, metres (0 = none)");
@@ -79,10 +83,36 @@ proxseg::Database open_for_adding(const DbOptions& o) {
   return proxseg::open_database(o.dir, d, o.voxel_size || o.normal_radius || !o.fpfh_radii.empty());
 }
 
-void report(const proxseg::ModelView& v) {
-  std::cerr << "proxseg: added " << v.object << " view " << v.name << " (" << v.points << " points"
-            << (v.coloured ? "" : ", no colour: recognised by shape alone") << ") from " << v.source
-            << "\n";
+// input_coloured: whether the cloud the view was made from had colours (a view drops colours
+// that are one placeholder colour throughout, docs/database.md).
+void report(const proxseg::ModelView& v, bool input_coloured) {
+  say() << "proxseg: added " << v.object << " view " << v.name << " ("
+            << counted(v.points, "point")
+            << (v.coloured         ? ""
+                : input_coloured ? "; its colours are one placeholder colour throughout, not "
+                                   "the object's: recognised by shape alone"
+                                 : "; no colour: recognised by shape alone")
+            << ") from " << v.source << "\n";
+}
+
+// A mesh whose size is implausible for an object in the given units: refused, with the fix.
+void check_units(const proxseg::Mesh& mesh, const DbOptions& o) {
+  if (mesh.vertices.empty()) return;
+  Eigen::Vector3f lo = mesh.vertices.front(), hi = lo;
+  for (const Eigen::Vector3f& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double size = (hi - lo).norm();  // metres, after --units
+  char what[160];
+  std::snprintf(what, sizeof what, "%s: %.4g m across with --units %s", o.mesh.c_str(), size,
+                o.units.c_str());
+  // Objects a depth camera can pick out on a table: about 1 cm to 2 m.
+  if (o.units == "m" && size > 5)
+    throw InputError(std::string(what) +
+                     ", too large for an object: its coordinates look like millimetres; add "
+                     "--units mm");
+  if (o.units == "mm" && size < 0.005)
+    throw InputError(std::string(what) +
+                     ", too small for an object: its coordinates look like metres; use "
+                     "--units m (the default)");
 }
 
 std::string megabytes(std::size_t bytes) {
@@ -131,9 +161,9 @@ int run_add(const DbOptions& o) {
   }
   proxseg::Database db = open_for_adding(o);
   for (const auto& [frame, source] : views)
-    report(proxseg::add_view(db, o.name, frame, viewpoint, source));
-  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
-            << " views\n";
+    report(proxseg::add_view(db, o.name, frame, viewpoint, source), frame.coloured());
+  std::cout << o.dir << ": " << counted(db.objects().size(), "object") << ", "
+            << counted(db.views.size(), "view") << "\n";
   return 0;
 }
 
@@ -142,6 +172,7 @@ int run_render(const DbOptions& o) {
     throw InputError("--distance: expected metres >= 0");
   if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise: expected metres in [0, 1)");
   const proxseg::Mesh mesh = proxseg::read_mesh(o.mesh, o.units == "mm" ? 0.001 : 1.0);
+  check_units(mesh, o);
   proxseg::ViewSphereParams p;
   p.views = o.render_views;
   p.distance = o.distance;
@@ -158,10 +189,11 @@ int run_render(const DbOptions& o) {
       std::cerr << "proxseg: warning: " << source << " sees almost nothing; skipped\n";
       continue;
     }
-    report(proxseg::add_view(db, o.name, rendered[i].points, e, source));
+    report(proxseg::add_view(db, o.name, rendered[i].points, e, source),
+           rendered[i].points.coloured());
   }
-  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size()
-            << " views\n";
+  std::cout << o.dir << ": " << counted(db.objects().size(), "object") << ", "
+            << counted(db.views.size(), "view") << "\n";
   return 0;
 }
 
@@ -172,14 +204,17 @@ int run_info(const DbOptions& o) {
     std::cout << info.dump(2) << "\n";
     return 0;
   }
-  std::cout << o.dir << ": " << db.objects().size() << " objects, " << db.views.size() << " views, "
+  std::cout << o.dir << ": " << counted(db.objects().size(), "object") << ", "
+            << counted(db.views.size(), "view") << ", "
             << megabytes(info["file_bytes"].get<std::size_t>()) << ", voxel "
             << db.descriptor.voxel_size << " m, FPFH radii";
   for (double r : db.descriptor.fpfh_radii) std::cout << " " << r;
   std::cout << " m\n";
   for (const auto& obj : info["objects"])
-    std::cout << "  " << obj["name"].get<std::string>() << ": " << obj["views"] << " views, "
-              << obj["points"] << " points, " << megabytes(obj["bytes"].get<std::size_t>()) << "\n";
+    std::cout << "  " << obj["name"].get<std::string>() << ": "
+              << counted(obj["views"].get<std::size_t>(), "view") << ", "
+              << counted(obj["points"].get<std::size_t>(), "point") << ", "
+              << megabytes(obj["bytes"].get<std::size_t>()) << "\n";
   for (const std::string& d : db.damaged) std::cout << "  damaged: " << d << "\n";
   return 0;
 }
@@ -195,7 +230,7 @@ int run_check(const DbOptions& o) {
               << "\n";
   } else {
     for (const std::string& d : check.damaged) std::cout << "damaged: " << d << "\n";
-    std::cout << o.dir << ": " << check.whole << " of " << check.views << " views whole"
+    std::cout << o.dir << ": " << check.whole << " of " << counted(check.views, "view") << " whole"
               << (check.damaged.empty() ? ""
                                         : ", " + std::to_string(check.damaged.size()) +
                                               " damaged records or structures")
@@ -207,22 +242,23 @@ int run_check(const DbOptions& o) {
 int run_remove(const DbOptions& o) {
   proxseg::Database db = proxseg::load_database(o.dir);
   const int n = proxseg::remove_object(db, o.name);
-  std::cout << o.dir << ": removed " << o.name << " (" << n << (n == 1 ? " view" : " views")
-            << "); " << db.objects().size() << " objects, " << db.views.size() << " views\n";
+  std::cout << o.dir << ": removed " << o.name << " (" << counted(n, "view") << "); "
+            << counted(db.objects().size(), "object") << ", " << counted(db.views.size(), "view")
+            << "\n";
   return 0;
 }
 
 int run_rename(const DbOptions& o) {
   proxseg::Database db = proxseg::load_database(o.dir);
   const int n = proxseg::rename_object(db, o.name, o.new_name);
-  std::cout << o.dir << ": renamed " << o.name << " to " << o.new_name << " (" << n
-            << (n == 1 ? " view" : " views") << ")\n";
+  std::cout << o.dir << ": renamed " << o.name << " to " << o.new_name << " ("
+            << counted(n, "view") << ")\n";
   return 0;
 }
 
 int run_upgrade(const DbOptions& o) {
   const int n = proxseg::upgrade_database(o.dir);
-  std::cout << o.dir << ": upgraded " << n << " views into " << o.dir << "/"
+  std::cout << o.dir << ": upgraded " << counted(n, "view") << " into " << o.dir << "/"
             << proxseg::kDatabaseFile << " (index.json and views/ are no longer read)\n";
   return 0;
 }

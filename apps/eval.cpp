@@ -85,7 +85,7 @@ int run_eval_batch(const EvalOptions& o) {
   const auto files = proxseg::scene_files(o.batch);
   const std::string method = o.pred_dir.empty() ? "proxseg " + o.preset : "predictions";
   std::vector<proxseg::SceneScores> scenes;
-  Progress progress(files.size());
+  Progress progress = progress_bar(files.size());
   std::size_t unlabelled = 0;
   catch_interrupts();
   for (const auto& file : files) {
@@ -132,7 +132,7 @@ int run_eval_batch(const EvalOptions& o) {
     proxseg::write_file_atomic((out / "scenes.csv").string(), proxseg::scenes_csv(scenes));
     proxseg::write_file_atomic((out / "summary.md").string(), markdown);
     proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
-    std::cerr << "proxseg: wrote " << (out / "scenes.csv").string()
+    say() << "proxseg: wrote " << (out / "scenes.csv").string()
               << ", summary.md, summary.json\n";
   }
   if (o.json)

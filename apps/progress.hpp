@@ -13,9 +13,12 @@ namespace cli {
 
 class Progress {
  public:
-  explicit Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
+  // quiet: counts the steps, draws nothing (the CLI's --quiet).
+  explicit Progress(std::size_t total, bool quiet = false)
+      : total_(total), tty_(isatty(STDERR_FILENO)), quiet_(quiet) {}
   void step(const std::string& what) {
     ++done_;
+    if (quiet_) return;
     if (tty_) {
       const int width = 30,
                 filled = static_cast<int>(width * done_ / std::max<std::size_t>(total_, 1));
@@ -30,7 +33,7 @@ class Progress {
 
  private:
   std::size_t total_, done_ = 0;
-  bool tty_;
+  bool tty_, quiet_;
 };
 
 }  // namespace cli

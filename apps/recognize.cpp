@@ -62,13 +62,20 @@ void warn_damaged(const std::vector<proxseg::SceneObject>& objects) {
       }
 }
 
+// The objects' table: id (as in PREFIX.pcd's `object` field, the picture's legend and the
+// report's "id"), the candidates of the segmentation it holds (their instance ids, as in the
+// progress lines), and its recognition.
 void print(const std::vector<proxseg::SceneObject>& objects) {
-  std::printf("%-4s %-7s %-22s %-6s %-7s %-8s %-22s %s\n", "id", "points", "name", "score",
-              "fitness", "coverage", "runner-up", "score");
+  std::printf("%-4s %-10s %-7s %-22s %-6s %-7s %-8s %-22s %s\n", "id", "candidates", "points",
+              "name", "score", "fitness", "coverage", "runner-up", "score");
   for (const auto& o : objects) {
     const auto& r = o.recognition;
-    std::printf("%-4d %-7zu %-22s %-6.3f %-7.3f %-8.3f %-22s %.3f\n", o.id, o.points.size(),
-                r.name.c_str(), r.best.score, r.best.fitness, r.best.coverage,
+    std::string of;
+    for (auto i : o.instances) of += (of.empty() ? "" : "+") + std::to_string(i);
+    if (o.origin == proxseg::SceneObject::Origin::kSplit) of += " (part)";
+    if (of.empty()) of = "-";
+    std::printf("%-4d %-10s %-7zu %-22s %-6.3f %-7.3f %-8.3f %-22s %.3f\n", o.id, of.c_str(),
+                o.points.size(), r.name.c_str(), r.best.score, r.best.fitness, r.best.coverage,
                 r.runner_up.view >= 0 ? r.runner_up.object.c_str() : "-", r.runner_up.score);
   }
 }
@@ -84,7 +91,7 @@ std::vector<proxseg::SceneObject> recognise_scene(const proxseg::Frame& frame,
   segment_ms = ms_since(t);
   std::size_t candidates = 0;
   for (const auto& c : result.selection.components) candidates += !c.background;
-  Progress progress(candidates);
+  Progress progress = progress_bar(candidates);
   t = Clock::now();
   // The bar counts the candidates; the trials of the split and merge passes are logged.
   std::size_t steps = 0;
@@ -94,10 +101,12 @@ std::vector<proxseg::SceneObject> recognise_scene(const proxseg::Frame& frame,
         for (auto i : s.instances) of += (of.empty() ? "" : "+") + std::to_string(i);
         if (steps++ < candidates)
           progress.step("candidate " + of + ": " + s.recognition.name);
-        else
-          std::cerr << "proxseg: "
-                    << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part" : "union")
-                    << " of candidate " << of << ": " << s.recognition.name << "\n";
+        else  // a trial: in the result only when it named its points better than before
+          say(Verbosity::kVerbose)
+              << "proxseg: trial: "
+              << (s.origin == proxseg::SceneObject::Origin::kSplit ? "part of candidate "
+                                                                   : "union of candidates ")
+              << of << ": " << s.recognition.name << "\n";
       });
   recognize_ms = ms_since(t);
   return scene;
@@ -127,8 +136,8 @@ int run_recognize(const RecognizeOptions& o) {
   const proxseg::Database db = proxseg::load_database(o.db);
   if (db.views.empty()) throw InputError(o.db + ": the database has no views");
   const double load_ms = ms_since(start);
-  std::cerr << "proxseg: database " << o.db << ": " << db.objects().size() << " objects, "
-            << db.views.size() << " views (" << static_cast<int>(load_ms) << " ms)\n";
+  say() << "proxseg: database " << o.db << ": " << counted(db.objects().size(), "object")
+            << ", " << counted(db.views.size(), "view") << " (" << static_cast<int>(load_ms) << " ms)\n";
   for (const std::string& d : db.damaged)
     std::cerr << "proxseg: warning: " << d << "; the view is left out (see proxseg db check)\n";
   if (!o.batch.empty()) {
@@ -153,7 +162,7 @@ int run_recognize(const RecognizeOptions& o) {
     recognize_ms = ms_since(t);
   } else {
     frame = read_input(o);
-    std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
+    say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
               << frame.height << ")\n";
     print_colourless_note(o.input, frame, seg);
     proxseg::check_memory(frame, seg, input_name(o));

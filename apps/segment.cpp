@@ -70,7 +70,7 @@ int run_segment(const SegmentCommand& o) {
   }
   make_parent(o.output);  // before the work: an unwritable output fails at once
   const proxseg::Frame frame = read_input(o);
-  std::cerr << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
+  say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
             << frame.height << ")\n";
   print_colourless_note(o.input, frame, params);
   proxseg::check_memory(frame, params, input_name(o));
@@ -82,7 +82,7 @@ int run_segment(const SegmentCommand& o) {
               << " points too far out to voxelise (coordinates beyond 1e9 voxels) are unlabelled\n";
   if (!o.candidates_dir.empty()) {
     const auto files = proxseg::write_candidates(o.candidates_dir, frame, result);
-    std::cerr << "proxseg: " << files.size() << " candidate clouds in " << o.candidates_dir << "\n";
+    say() << "proxseg: " << files.size() << " candidate clouds in " << o.candidates_dir << "\n";
   }
   if (o.json) {
     std::cout << report.dump(2) << "\n";
@@ -95,8 +95,8 @@ int run_segment(const SegmentCommand& o) {
       std::cout << result.voxels.size() << " voxels, " << result.initial_centroids.size()
                 << " initial centroids, k = " << result.k() << ", ";
     else
-      std::cout << result.label_sizes.size() - 1 << " surfaces, ";
-    std::cout << report["selection"]["candidates"].get<int>() << " candidates, "
+      std::cout << counted(result.label_sizes.size() - 1, "surface") << ", ";
+    std::cout << counted(report["selection"]["candidates"].get<std::size_t>(), "candidate") << ", "
               << report["times_ms"]["total"].get<double>() << " ms\n";
   }
   return 0;

@@ -55,7 +55,7 @@ int run_clutter(const SynthOptions& o) {
   const std::string lmo = "../shared/data/lmo/models";
   if (p.models_dir.empty() && std::filesystem::is_directory(lmo)) p.models_dir = lmo;
   if (p.models_dir.empty())
-    std::cerr << "proxseg: note: no LINEMOD meshes at " << lmo
+    say() << "proxseg: note: no LINEMOD meshes at " << lmo
               << " (give --models DIR); boxes and cylinders only\n";
   if (o.count == 0) {
     p.seed = o.seed;
@@ -71,7 +71,7 @@ int run_clutter(const SynthOptions& o) {
   const std::filesystem::path dir(o.output);
   make_parent((dir / (o.kind + "-000.pcd")).string());
   catch_interrupts();
-  Progress progress(o.count);
+  Progress progress = progress_bar(o.count);
   const auto start = std::chrono::steady_clock::now();
   std::size_t objects = 0;
   unsigned done = 0;
@@ -87,7 +87,7 @@ int run_clutter(const SynthOptions& o) {
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << o.output << ": " << done << " " << o.kind << " scenes (seeds " << o.first_seed << "-"
-            << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << objects << " objects, " << s
+            << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << counted(objects, "object") << ", " << s
             << " s" << (interrupted() ? " (interrupted)" : "") << "\n";
   return interrupted() ? kInterruptedExit : 0;
 }

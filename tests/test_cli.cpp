@@ -268,7 +268,12 @@ TEST(Cli, SegmentWritesInstancesAndCandidates) {
   ASSERT_EQ(f.label.size(), f.size());
   const nlohmann::json j = nlohmann::json::parse(slurp(o.string() + ".json"));
   std::size_t objects = 0, background = 0;
-  for (const auto& c : j["candidates"]) {
+  nlohmann::json instances = j["candidates"];
+  for (const auto& c : j["background"]) {
+    EXPECT_TRUE(c["background"].get<bool>());
+    instances.push_back(c);
+  }
+  for (const auto& c : instances) {
     const std::uint32_t id = c["id"];
     const std::size_t points = c["points"];
     EXPECT_EQ(static_cast<std::size_t>(std::count(f.label.begin(), f.label.end(), id)), points);
@@ -286,6 +291,8 @@ TEST(Cli, SegmentWritesInstancesAndCandidates) {
   }
   // learn0: two boxes on a table.
   EXPECT_EQ(objects, 2u);
+  EXPECT_EQ(objects, j["selection"]["candidates"].get<std::size_t>());
+  EXPECT_EQ(j["candidates"].size(), objects);
   EXPECT_EQ(background, 1u);
   EXPECT_EQ(static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), {})), objects);
 }

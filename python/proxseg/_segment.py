@@ -107,7 +107,9 @@ def label_colours(labels: np.ndarray) -> np.ndarray:
 
 def _candidates(report: Dict[str, Any], points: List[np.ndarray]) -> List[Candidate]:
     out = []
-    for c, p in zip(report["candidates"], points):
+    # The extension's points are in instance order, as candidates and background interleave.
+    rows = sorted(report["candidates"] + report["background"], key=lambda c: c["id"])
+    for c, p in zip(rows, points):
         box = c["box"]
         out.append(Candidate(id=c["id"], label=c["label"], points=p,
                              centroid=np.array(c["centroid"]),

@@ -259,14 +259,16 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
       labels.push_back({{"label", label}, {"points", r.label_sizes[label]}});
   j["labels"] = labels;
   const Selection& sel = r.selection;
-  nlohmann::json candidates = nlohmann::json::array();
-  int objects = 0;
+  // "candidates" are the objects selection picked out ("selection.candidates" counts them);
+  // "background" the large planes it reported beside them. Both keep the instance ids of the
+  // instance image.
+  nlohmann::json candidates = nlohmann::json::array(), background = nlohmann::json::array();
   for (const Candidate& c : sel.components) {
-    objects += !c.background;
     auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
     std::vector<std::vector<double>> axes;
     for (int a = 0; a < 3; ++a) axes.push_back(vec(c.box.axes.col(a)));
-    candidates.push_back(
+    (c.background ? background : candidates)
+        .push_back(
         {{"id", c.instance},
          {"label", c.label},
          {"points", c.points.size()},
@@ -277,8 +279,9 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   j["selection"] = {{"clusters", sel.clusters},
                     {"weak_points", sel.weak_points},
                     {"instances", sel.components.size()},
-                    {"candidates", objects}};
+                    {"candidates", candidates.size()}};
   j["candidates"] = candidates;
+  j["background"] = background;
   return j;
 }
 
@@ -749,7 +752,7 @@ nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
         {"width", picture.cols},
         {"height", picture.rows},
         {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
-        {"legend", "right of the scene: per candidate its colour, id, name, score"}};
+        {"legend", "right of the scene: per object its colour, id, name, score"}};
     files.emplace_back(prefix + ".png", detail::encode_png(picture));
   }
   if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
