@@ -127,7 +127,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
                             [&](const proxseg::FrameSource& f) { return f.id == id; });
     if (before > 0)
       say() << "proxseg: note: " << out_dir << " holds " << counted(before, "frame")
-                << " an earlier run finished; they are done again (--resume skips them)\n";
+                << " an earlier run finished; doing them again (--resume skips them)\n";
   }
   std::vector<proxseg::FrameSource> todo;
   for (const auto& f : frames)
