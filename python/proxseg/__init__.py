@@ -14,14 +14,16 @@ ICP). Everything runs in this process, with numpy arrays in and out; the results
     scene = proxseg.recognize(frame, db)            # names, scores, 4x4 poses, object ids
 
 Errors: ValueError for bad input or parameters, OSError for files that cannot be read or
-written, TypeError for arguments of the wrong kind. The computation releases the GIL; results do
+written (FileNotFoundError, PermissionError, IsADirectoryError where they apply), TypeError for
+arguments of the wrong kind. Frames, parameters and results pickle (multiprocessing, Dask). The computation releases the GIL; results do
 not depend on the number of threads. Importing the module keeps freed memory in the process for
 the next frame, as the CLI does (PROXSEG_KEEP_FREED_MEMORY=0 before the import: not).
 """
 
 from ._proxseg import Frame, __version__, build_info
-from ._frame import as_frame, from_rgbd, read_point_cloud, read_rgbd
-from ._params import RecognitionParams, SegmentParams
+from ._frame import (as_frame, from_open3d, from_rgbd, read_point_cloud, read_rgbd, to_open3d,
+                     write_point_cloud)
+from ._params import RecognitionParams, SegmentParams, parameters
 from ._segment import Box, Candidate, SegmentResult, label_colours, segment
 from ._database import Database
 from ._recognize import RecognitionResult, RecognizedObject, recognize, recognize_object
@@ -29,5 +31,6 @@ from ._recognize import RecognitionResult, RecognizedObject, recognize, recogniz
 __all__ = [
     "Box", "Candidate", "Database", "Frame", "RecognitionParams", "RecognitionResult",
     "RecognizedObject", "SegmentParams", "SegmentResult", "__version__", "as_frame", "build_info",
-    "from_rgbd", "label_colours", "read_point_cloud", "read_rgbd", "recognize", "recognize_object", "segment",
+    "from_open3d", "from_rgbd", "label_colours", "parameters", "read_point_cloud", "read_rgbd",
+    "recognize", "recognize_object", "segment", "to_open3d", "write_point_cloud",
 ]

@@ -99,10 +99,11 @@ class Database:
         frame = as_frame(points, rgb)
         if source is None:
             source = os.fspath(points) if isinstance(points, (str, os.PathLike)) else "python"
-        vp = (math.nan, math.nan, math.nan) if viewpoint is None else tuple(
+        given = (math.nan, math.nan, math.nan) if viewpoint is None else tuple(
             float(v) for v in viewpoint)
-        if len(vp) != 3:
-            raise ValueError(f"viewpoint: {len(vp)} values (expected x, y, z in metres or None)")
+        if len(given) != 3:
+            raise ValueError(f"viewpoint: {len(given)} values (expected x, y, z in metres or None)")
+        vp = (given[0], given[1], given[2])
         return self._db.add_view(object, frame, vp, source)
 
     def render(self, object: str, mesh: PathLike, *, views: int = 8, units: str = "m",

@@ -9,7 +9,8 @@ field.
 from __future__ import annotations
 
 import copy
-from typing import Any, Dict, Iterator, Mapping, Optional
+import difflib
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Type
 
 from . import _proxseg
 
@@ -27,16 +28,16 @@ class _Section:
     def __getattr__(self, name: str) -> Any:
         data = object.__getattribute__(self, "_data")
         if name not in data:
-            raise AttributeError(f"{self._where(name)}: no such parameter "
-                                 f"(expected one of {', '.join(sorted(data))})")
+            raise AttributeError(f"{self._where(name)}: no such parameter"
+                                 f"{_did_you_mean(name, data)}")
         value = data[name]
         return _Section(value, self._where(name)) if isinstance(value, dict) else value
 
     def __setattr__(self, name: str, value: Any) -> None:
         data = object.__getattribute__(self, "_data")
         if name not in data:
-            raise AttributeError(f"{self._where(name)}: no such parameter "
-                                 f"(expected one of {', '.join(sorted(data))})")
+            raise AttributeError(f"{self._where(name)}: no such parameter"
+                                 f"{_did_you_mean(name, data)}")
         if isinstance(data[name], dict):
             if not isinstance(value, Mapping):
                 raise ValueError(f"{self._where(name)}: a section (expected a dict of its values)")
@@ -74,6 +75,27 @@ class _Section:
     def __repr__(self) -> str:
         return f"{type(self).__name__}({object.__getattribute__(self, '_data')!r})"
 
+    def __reduce__(self) -> Any:
+        # Pickling (multiprocessing, Dask): the tree of values, rebuilt without __init__.
+        return (_rebuild, (type(self), self.to_dict(), object.__getattribute__(self, "_path")))
+
+
+def _rebuild(kind: Type["_Section"], data: Dict[str, Any], path: str) -> "_Section":
+    section = object.__new__(kind)
+    _Section.__init__(section, data, path)
+    return section
+
+
+def _did_you_mean(name: str, tree: Dict[str, Any]) -> str:
+    """" (did you mean section.name?)" for a likely typo of a parameter's name, else ""."""
+    names = list(tree)
+    names += [f"{s}.{n}" for s, v in tree.items() if isinstance(v, dict) for n in v]
+    names += [n for v in tree.values() if isinstance(v, dict) for n in v]
+    near = difflib.get_close_matches(name, names, n=1, cutoff=0.75)
+    if not near and len(name) >= 4:  # a part of the name ("pairwise" for "pairwise_weight")
+        near = [n for n in names if name in n][:1]
+    return f" (did you mean {near[0]}?)" if near else ""
+
 
 def _merge(tree: Dict[str, Any], overrides: Dict[str, Any], path: str = "") -> None:
     """Sets the values of ``overrides`` in ``tree``: a section name with a dict merges into that
@@ -97,7 +119,7 @@ def _merge(tree: Dict[str, Any], overrides: Dict[str, Any], path: str = "") -> N
             raise ValueError(f"{where}: in several sections ({', '.join(owners)}); "
                             f"give it as section={{{name!r}: ...}}")
         else:
-            raise ValueError(f"{where}: no such parameter")
+            raise ValueError(f"{where}: no such parameter{_did_you_mean(name, tree)}")
 
 
 class SegmentParams(_Section):
@@ -141,7 +163,7 @@ def _preset_tree(preset: str) -> Dict[str, Any]:
     return copy.deepcopy(_SEGMENT_DEFAULTS[preset])
 
 
-def _as_tree(params: Any, kind: type, what: str) -> Dict[str, Any]:
+def _as_tree(params: Any, kind: Type[_Section], what: str) -> Dict[str, Any]:
     if isinstance(params, kind):
         return params.to_dict()
     if isinstance(params, Mapping):
@@ -176,3 +198,22 @@ def resolve_recognition_params(params: Any, overrides: Mapping[str, Any]) -> Dic
         _merge(tree, _as_tree(params, RecognitionParams, "params"), "")
     _merge(tree, dict(overrides))
     return _proxseg._recognition_params(tree)
+
+
+def parameters(which: str = "segmentation") -> List[Dict[str, Any]]:
+    """The parameter table: every parameter with its type, default, range, unit, help and the
+    paper's value, as ``proxseg params --json`` prints it (docs/parameters.md).
+
+    Parameters
+    ----------
+    which : {"segmentation", "recognition"}
+
+    Returns
+    -------
+    list of dict
+        One dict per parameter: ``key`` ("voxels.voxel_size"), ``section``, ``name``, ``type``,
+        ``default``, ``range``, ``unit``, ``help``, ``paper``, ``flag`` (the CLI's), ``choices``.
+    """
+    if which not in ("segmentation", "recognition"):
+        raise ValueError(f"which: {which!r} (expected 'segmentation' or 'recognition')")
+    return list(_proxseg._parameter_table(which))

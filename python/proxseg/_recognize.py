@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Type
 
 import numpy as np
 
@@ -111,8 +111,8 @@ def _object(raw: Dict[str, Any]) -> RecognizedObject:
         report=r)
 
 
-def _params(tree: Dict[str, Any], kind: type) -> _Section:
-    p = kind.__new__(kind)
+def _params(tree: Dict[str, Any], kind: Type[_Section]) -> _Section:
+    p = object.__new__(kind)
     _Section.__init__(p, tree, "")
     return p
 
@@ -143,7 +143,7 @@ def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
     ids = raw["object_ids"]
     return RecognitionResult(
         objects=[_object(o) for o in raw["objects"]], object_ids=ids,
-        segmentation=segmentation_result(raw["segmentation"]), times_ms=dict(raw["times_ms"]),
+        segmentation=segmentation_result(raw["segmentation"], f), times_ms=dict(raw["times_ms"]),
         params={"segmentation": _params(copy.deepcopy(seg), SegmentParams),
                 "recognition": _params(rec, RecognitionParams)})
 

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
 
 from . import _proxseg
-from ._frame import as_frame
+from ._frame import as_frame, to_open3d
+from ._proxseg import Frame
 from ._params import SegmentParams, resolve_segment_params
 
 
@@ -27,24 +29,39 @@ class Candidate:
     """One instance of the selection [3.3]: a candidate object, or the background (a large
     supporting plane: table, floor, wall).
 
-    id: its value in ``SegmentResult.instances`` (1..n).
-    label: the segmentation label it came from.
-    points: indices into the frame's points (flattened row-major when organized), ascending.
-    centroid: (3,) metres. box: its oriented bounding box.
-    background: True for a supporting plane, which is not a candidate object.
+    Attributes
+    ----------
+    id : int
+        Its value in ``SegmentResult.instances`` (1..n), the report's ``"id"``.
+    label : int
+        The segmentation label it came from.
+    indices : numpy.ndarray
+        Indices into the frame's points (flattened row-major when organized), ascending.
+        ``points`` is the same array (the name it had before).
+    centroid : numpy.ndarray
+        (3,) metres.
+    box : Box
+        Its oriented bounding box.
+    background : bool
+        True for a supporting plane, which is not a candidate object.
     """
 
     id: int
     label: int
-    points: np.ndarray
+    indices: np.ndarray
     centroid: np.ndarray
     box: Box
     background: bool
 
+    @property
+    def points(self) -> np.ndarray:
+        """The same as ``indices`` (its earlier name; they are point indices, not points)."""
+        return self.indices
+
     def __repr__(self) -> str:
         c = ", ".join(f"{x:.3f}" for x in self.centroid)
         e = ", ".join(f"{x:.3f}" for x in self.box.extent)
-        return (f"Candidate(id={self.id}, points={len(self.points)}, centroid=({c}), "
+        return (f"Candidate(id={self.id}, points={len(self.indices)}, centroid=({c}), "
                 f"extent=({e}){', background' if self.background else ''})")
 
 
@@ -76,6 +93,61 @@ class SegmentResult:
     times_ms: Dict[str, float]
     params: SegmentParams
     report: Dict[str, Any] = field(repr=False)
+    frame: Optional[Frame] = field(default=None, repr=False, compare=False)
+
+    def save(self, prefix: Union[str, "os.PathLike[str]"], *, outputs: str = "pcd,png,json"
+             ) -> List[str]:
+        """Writes the files ``proxseg segment -o PREFIX`` writes: the PCD and the pictures byte
+        for byte the CLI's, the report with this run's times.
+
+        Parameters
+        ----------
+        prefix : str or os.PathLike
+            ``PREFIX.pcd`` (fields label and instance), ``PREFIX.png`` (the picture),
+            ``PREFIX.json`` (the report), and with ``labels`` ``PREFIX.label.png`` and
+            ``PREFIX.instance.png``. Written all or none.
+        outputs : str
+            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, or ``all`` (the CLI's
+            ``--outputs``).
+
+        Returns
+        -------
+        list of str
+            The files written.
+
+        Raises
+        ------
+        ValueError
+            For an unknown output name, or a result without its frame.
+        OSError
+            When a file cannot be written.
+        """
+        if self.frame is None:
+            raise ValueError("save: this result has no frame (results of proxseg.segment do)")
+        return _proxseg._write_segmentation(os.fspath(prefix), self.frame, self.labels,
+                                            self.instances, self.report, outputs,
+                                            int(self.params.threads))
+
+    def to_open3d(self, by: str = "instances") -> Any:
+        """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by result.
+
+        Parameters
+        ----------
+        by : {"instances", "labels", "colours"}
+            Colour each point by its instance or segmentation label (``label_colours``), or
+            keep the scene's colours.
+
+        Returns
+        -------
+        open3d.geometry.PointCloud
+        """
+        if self.frame is None:
+            raise ValueError("to_open3d: this result has no frame (results of proxseg.segment do)")
+        if by not in ("instances", "labels", "colours"):
+            raise ValueError(f"by: {by!r} (expected 'instances', 'labels' or 'colours')")
+        colours = None if by == "colours" else label_colours(
+            self.instances if by == "instances" else self.labels)
+        return to_open3d(self.frame, colours)
 
     def __repr__(self) -> str:
         return (f"SegmentResult(k={self.k}, candidates={len(self.candidates)}, "
@@ -111,7 +183,7 @@ def _candidates(report: Dict[str, Any], points: List[np.ndarray]) -> List[Candid
     rows = sorted(report["candidates"] + report["background"], key=lambda c: c["id"])
     for c, p in zip(rows, points):
         box = c["box"]
-        out.append(Candidate(id=c["id"], label=c["label"], points=p,
+        out.append(Candidate(id=c["id"], label=c["label"], indices=p,
                              centroid=np.array(c["centroid"]),
                              box=Box(np.array(box["centre"]), np.array(box["axes"]).T,
                                      np.array(box["extent"])),
@@ -125,7 +197,7 @@ def _params_object(tree: Dict[str, Any]) -> SegmentParams:
     return p
 
 
-def segmentation_result(raw: Dict[str, Any]) -> SegmentResult:
+def segmentation_result(raw: Dict[str, Any], frame: Optional[Frame] = None) -> SegmentResult:
     """A SegmentResult from the extension's dict (also used by recognize)."""
     report = raw["report"]
     instances = _candidates(report, raw["candidate_points"])
@@ -134,7 +206,7 @@ def segmentation_result(raw: Dict[str, Any]) -> SegmentResult:
                          candidates=[c for c in instances if not c.background],
                          background=[c for c in instances if c.background], k=report["k"],
                          times_ms=dict(report["times_ms"]),
-                         params=_params_object(report["parameters"]), report=report)
+                         params=_params_object(report["parameters"]), report=report, frame=frame)
 
 
 def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] = None,
@@ -161,4 +233,4 @@ def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] =
     """
     f = as_frame(frame, rgb)
     tree = resolve_segment_params(params, preset, overrides)
-    return segmentation_result(_proxseg._segment(f, tree))
+    return segmentation_result(_proxseg._segment(f, tree), f)

@@ -36,7 +36,7 @@ try:  # Dask is optional for the rest of proxseg
     from distributed import Client, LocalCluster, as_completed, get_worker
     from distributed.diagnostics.plugin import WorkerPlugin
 except ImportError:  # pragma: no cover - reported when run
-    Client = None  # type: ignore[assignment]
+    Client = None  # type: ignore[assignment,misc]
     WorkerPlugin = object  # type: ignore[assignment,misc]
 
 __all__ = ["discover_frames", "frame_rows", "run_batch", "main"]
@@ -73,7 +73,7 @@ class _BatchWorker(WorkerPlugin):
 
     def __init__(self, job: Dict[str, Any]) -> None:
         self.job = job
-        self.db = None
+        self.db: Optional[_proxseg._Database] = None
         self.load_ms = 0.0
 
     def setup(self, worker: Any = None) -> None:
@@ -87,6 +87,7 @@ class _BatchWorker(WorkerPlugin):
         if job["command"] == "segment":
             return _proxseg._segment_frame(frame, job["out_dir"], job["outputs"],
                                            job["segmentation"])
+        assert self.db is not None, "setup() loads the database of a recognize job"
         return _proxseg._recognize_frame(frame, job["out_dir"], job["outputs"],
                                          job["segmentation"], job["recognition"], self.db,
                                          job["db"], self.load_ms)
@@ -94,7 +95,9 @@ class _BatchWorker(WorkerPlugin):
 
 def _run_frame(frame: Dict[str, str]) -> Dict[str, Any]:
     """A Dask task: one frame, with the worker's plugin (settings and database)."""
-    return get_worker().plugins[_PLUGIN].run(frame)
+    plugin = get_worker().plugins[_PLUGIN]
+    assert isinstance(plugin, _BatchWorker)
+    return plugin.run(frame)
 
 
 def _write_atomic(path: str, text: str) -> None:
@@ -180,6 +183,7 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     _proxseg._check_output_folder(sources, frames, out_dir)
     header: Dict[str, Any] = {"command": command, "outputs": outputs, "parameters": params}
     if command == "recognize":
+        assert db is not None  # checked by the caller: recognize needs a database
         header["database"] = os.fspath(db)
     header.update({"sources": sources, "shard": None, "frames": len(frames),
                    "frames_all": len(frames),

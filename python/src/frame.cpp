@@ -3,6 +3,7 @@
 #include <proxseg/io/cloud_io.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -27,15 +28,48 @@ std::string dtype_str(const py::array& a) {
   return py::str(a.dtype());
 }
 
-// None -> no colour; else uint8 of exactly the points' shape ((N, 3) or (H, W, 3)).
+// An array-like (numpy array, list, anything numpy.asarray takes) as a numpy array; TypeError
+// naming the argument and the type, never the value (which may be millions of numbers).
+py::array as_array(const py::handle& value, const char* name) {
+  if (py::isinstance<py::array>(value)) return py::reinterpret_borrow<py::array>(value);
+  const auto not_array_like = [&] {
+    return py::type_error(std::string(name) + ": " +
+                          std::string(py::str(py::type::of(value).attr("__name__"))) +
+                          " is not array-like (expected a numpy array or nested lists of numbers)");
+  };
+  py::array a;
+  try {
+    a = py::module_::import("numpy").attr("asarray")(value);
+  } catch (const py::error_already_set&) {
+    throw not_array_like();
+  }
+  if (a.dtype().kind() == 'O' || a.dtype().kind() == 'U' || a.dtype().kind() == 'S')
+    throw not_array_like();
+  return a;
+}
+
+// None -> no colour; else of exactly the points' shape ((N, 3) or (H, W, 3)): uint8 0-255, or
+// floats in [0, 1] (Open3D's colours) rounded to the nearest of 0-255.
 std::vector<Rgb> colours_from_numpy(const py::object& rgb, const std::vector<py::ssize_t>& shape) {
   if (rgb.is_none()) return {};
-  const auto colours = py::array::ensure(rgb);
-  if (!colours) throw InputError("rgb: expected a numpy array of uint8 (or None)");
-  if (colours.dtype().kind() != 'u' || colours.itemsize() != 1)
-    throw InputError("rgb: dtype " + dtype_str(colours) + " (expected uint8, 0-255)");
+  py::array colours = as_array(rgb, "rgb");
   if (shape_of(colours) != shape)
     throw InputError("rgb: shape " + shape_str(colours) + " (expected " + shape_str(shape) + ")");
+  if (colours.dtype().kind() == 'f') {
+    const auto f = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(colours);
+    std::vector<Rgb> out(static_cast<std::size_t>(f.size() / 3));
+    const double* v = f.data();
+    for (std::size_t i = 0; i < out.size() * 3; ++i) {
+      if (!(v[i] >= 0 && v[i] <= 1))
+        throw InputError("rgb: float colours must lie in [0, 1] (Open3D's), got " +
+                         std::to_string(v[i]) + " (or give uint8 0-255)");
+      out[i / 3][i % 3] = static_cast<std::uint8_t>(std::lround(v[i] * 255.0));
+    }
+    return out;
+  }
+  if (colours.dtype().kind() != 'u' || colours.itemsize() != 1)
+    throw InputError("rgb: dtype " + dtype_str(colours) +
+                     " (expected uint8 0-255, or floats in [0, 1])");
   const auto c = py::array_t<std::uint8_t, py::array::c_style>::ensure(colours);
   std::vector<Rgb> out(static_cast<std::size_t>(c.size() / 3));
   if (!out.empty()) std::memcpy(out.data()->data(), c.data(), out.size() * 3);
@@ -44,7 +78,10 @@ std::vector<Rgb> colours_from_numpy(const py::object& rgb, const std::vector<py:
 
 // xyz (N, 3) or (H, W, 3) floats, metres; rgb None or uint8 of the same leading shape. One copy
 // into the frame's own storage (memcpy for C-contiguous float32).
-Frame frame_from_numpy(const py::array& xyz, const py::object& rgb) {
+Frame frame_from_numpy(const py::object& xyz_like, const py::object& rgb) {
+  py::array xyz = as_array(xyz_like, "xyz");
+  if (xyz.dtype().kind() == 'i' || xyz.dtype().kind() == 'u')  // integers from a list
+    xyz = py::array_t<float, py::array::forcecast>::ensure(xyz);
   if (xyz.dtype().kind() != 'f')
     throw InputError("xyz: dtype " + dtype_str(xyz) + " (expected float32 or float64 metres)");
   if (!((xyz.ndim() == 2 || xyz.ndim() == 3) && xyz.shape(xyz.ndim() - 1) == 3))
@@ -129,6 +166,33 @@ The arrays are copied once into the frame (a memcpy for C-contiguous float32 / u
 frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
 )doc")
       .def(py::init(&frame_from_numpy), py::arg("xyz"), py::arg("rgb") = py::none())
+      .def(py::pickle(
+          [](const Frame& f) {  // (xyz, rgb, label, width, height): plain arrays and numbers
+            py::object label = py::none();
+            if (!f.label.empty())
+              label = to_numpy(std::vector<std::uint32_t>(f.label),
+                               {static_cast<py::ssize_t>(f.label.size())});
+            py::bytes xyz(reinterpret_cast<const char*>(f.xyz.data()), f.xyz.size() * 12);
+            py::bytes rgb(reinterpret_cast<const char*>(f.rgb.data()), f.rgb.size() * 3);
+            return py::make_tuple(xyz, rgb, label, f.width, f.height);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 5) throw InputError("Frame: not a pickled proxseg.Frame");
+            Frame f;
+            const std::string xyz = t[0].cast<std::string>(), rgb = t[1].cast<std::string>();
+            f.width = t[3].cast<int>();
+            f.height = t[4].cast<int>();
+            if (xyz.size() % 12 != 0 || rgb.size() % 3 != 0 ||
+                (!rgb.empty() && rgb.size() / 3 != xyz.size() / 12) ||
+                static_cast<std::size_t>(f.width) * f.height != xyz.size() / 12)
+              throw InputError("Frame: not a pickled proxseg.Frame (sizes do not agree)");
+            f.xyz.resize(xyz.size() / 12);
+            if (!xyz.empty()) std::memcpy(f.xyz.data()->data(), xyz.data(), xyz.size());
+            f.rgb.resize(rgb.size() / 3);
+            if (!rgb.empty()) std::memcpy(f.rgb.data()->data(), rgb.data(), rgb.size());
+            if (!t[2].is_none()) f.label = t[2].cast<std::vector<std::uint32_t>>();
+            return f;
+          }))
       .def_property_readonly(
           "xyz",
           [](py::object self) {
@@ -194,6 +258,22 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
       },
       py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("meta") = "",
       py::arg("intrinsics") = "");
+  m.def(
+      "_write_point_cloud",
+      [](const std::string& path, const Frame& frame, const py::dict& fields, bool compressed) {
+        std::vector<PointField> extra;
+        for (const auto& [name, values] : fields) {
+          const auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::
+              ensure(as_array(values, "fields"));
+          if (!a || static_cast<std::size_t>(a.size()) != frame.size())
+            throw InputError("fields[" + std::string(py::str(name)) + "]: expected one value per point (" +
+                             std::to_string(frame.size()) + ")");
+          extra.push_back({py::str(name), {a.data(), a.data() + a.size()}});
+        }
+        py::gil_scoped_release release;
+        write_pcd(path, frame, extra, compressed ? PcdData::kBinaryCompressed : PcdData::kBinary);
+      },
+      py::arg("path"), py::arg("frame"), py::arg("fields"), py::arg("compressed"));
   m.def("_from_rgbd", &frame_from_rgbd, py::arg("color"), py::arg("depth"), py::arg("K"),
         py::arg("depth_scale"));
 }

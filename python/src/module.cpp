@@ -112,7 +112,15 @@ PYBIND11_MODULE(_proxseg, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const proxseg::FileError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      // OSError(errno, message) is the subclass the errno names: FileNotFoundError,
+      // PermissionError, IsADirectoryError, NotADirectoryError.
+      if (e.error != 0) {
+        PyObject* args = Py_BuildValue("(is)", e.error, e.what());
+        PyErr_SetObject(PyExc_OSError, args);
+        Py_XDECREF(args);
+      } else {
+        PyErr_SetString(PyExc_OSError, e.what());
+      }
     } catch (const proxseg::InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const std::invalid_argument& e) {

@@ -1,5 +1,6 @@
 // proxseg.segment(): parameters as dicts laid out like the JSON config, results as numpy arrays
 // and the CLI's report.
+#include <proxseg/core/parameters.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
@@ -52,6 +53,50 @@ void bind_segment(py::module_& m) {
         return segmentation_dict(frame, p, std::move(r));
       },
       py::arg("frame"), py::arg("params"));
+  m.def(
+      "_write_segmentation",
+      [](const std::string& prefix, const Frame& frame, const py::array& labels,
+         const py::array& instances, const py::dict& report, const std::string& outputs,
+         int threads) {
+        const auto values = [&](const py::array& a, const char* name) {
+          const auto u =
+              py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(a);
+          if (!u) throw InputError(std::string(name) + ": expected integer labels");
+          return std::vector<std::uint32_t>(u.data(), u.data() + u.size());
+        };
+        const std::vector<std::uint32_t> l = values(labels, "labels"),
+                                         i = values(instances, "instances");
+        const nlohmann::json r = python_to_json(report);
+        const OutputSet set = parse_outputs(outputs, "outputs");
+        py::gil_scoped_release release;
+        write_segmentation(prefix, frame, l, i, r, set, threads);
+        return output_files(prefix, set, false);
+      },
+      py::arg("prefix"), py::arg("frame"), py::arg("labels"), py::arg("instances"),
+      py::arg("report"), py::arg("outputs"), py::arg("threads"));
+  m.def(
+      "_parameter_table",
+      [](const std::string& which) {
+        py::list rows;
+        for (const Parameter& row : which == "segmentation" ? segment_parameters()
+                                                            : recognition_parameters()) {
+          py::dict d;
+          d["key"] = row.key();
+          d["section"] = row.section;
+          d["name"] = row.name;
+          d["type"] = row.type_name();
+          d["default"] = std::visit([](const auto& v) { return py::cast(v); }, row.default_value);
+          d["range"] = row.range_text();
+          d["unit"] = row.unit;
+          d["help"] = row.help;
+          d["paper"] = row.paper;
+          d["flag"] = row.flag.empty() ? "" : "--" + row.flag;
+          d["choices"] = row.choices;
+          rows.append(d);
+        }
+        return rows;
+      },
+      py::arg("which"));
 }
 
 }  // namespace proxseg::python

@@ -29,7 +29,8 @@ def test_the_stubs_name_exactly_what_the_extension_has():
     for cls, names in members.items():
         have = {n for n in dir(getattr(_proxseg, cls))
                 if not n.startswith("_") or n in ("__init__", "__len__")}
-        assert names == have, cls
+        # Pickling (Frame) is checked by mypy.stubtest (test_habits.py).
+        assert names - {"__getstate__", "__setstate__"} == have, cls
 
 
 def test_public_names_have_docstrings_with_units():

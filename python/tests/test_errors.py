@@ -52,8 +52,10 @@ def test_bad_file_content_raises_valueerror(tmp_path):
 @pytest.mark.parametrize("xyz, rgb, message", [
     (np.zeros((5, 2), np.float32), None, r"xyz: shape \(5, 2\)"),
     (np.zeros((5,), np.float32), None, r"xyz: shape \(5,\)"),
-    (np.zeros((5, 3), np.int32), None, "xyz: dtype int32"),
-    (np.zeros((5, 3), np.float32), np.zeros((5, 3), np.float32), "rgb: dtype float32"),
+    (np.zeros((5, 3), np.complex64), None, "xyz: dtype complex64"),
+    (np.zeros((5, 3), np.float32), np.full((5, 3), 2.0, np.float32),
+     r"rgb: float colours must lie in \[0, 1\]"),
+    (np.zeros((5, 3), np.float32), np.zeros((5, 3), np.int16), "rgb: dtype int16"),
     (np.zeros((5, 3), np.float32), np.zeros((4, 3), np.uint8), r"rgb: shape \(4, 3\)"),
     (np.zeros((2, 5, 3), np.float32), np.zeros((10, 3), np.uint8), r"expected \(2, 5, 3\)"),
 ])
@@ -103,7 +105,7 @@ def test_bad_rgbd_arrays_raise_valueerror():
 
 def test_wrong_kinds_raise_typeerror(tmp_path):
     with pytest.raises(TypeError, match="expected a proxseg.Frame, a path"):
-        proxseg.segment([1, 2, 3])
+        proxseg.segment({"x": 1})
     with pytest.raises(TypeError, match="expected SegmentParams or a dict"):
         proxseg.segment(np.zeros((3, 3), np.float32), params=3)
     with pytest.raises(TypeError, match="db: int"):

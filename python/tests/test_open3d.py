@@ -38,5 +38,5 @@ def test_colourless_open3d_cloud():
 
 
 def test_other_open3d_geometry_is_refused():
-    with pytest.raises(TypeError, match="expected an open3d PointCloud"):
+    with pytest.raises(TypeError, match="expected an Open3D PointCloud or RGBDImage"):
         proxseg.as_frame(o3d.geometry.TriangleMesh())

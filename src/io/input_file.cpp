@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
 #include <proxseg/core/frame.hpp>
 
 namespace proxseg::detail {
@@ -38,17 +39,26 @@ struct Descriptor {
   }
 };
 
+// not_a_regular_file, and the errno that goes with it (EISDIR for a directory).
+std::pair<std::string, int> regular_file_problem(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int error = errno;
+    return {stat_failure(path, error), error};
+  }
+  if (S_ISREG(st.st_mode)) return {"", 0};
+  return {kind_of(st.st_mode), S_ISDIR(st.st_mode) ? EISDIR : 0};
+}
+
 }  // namespace
 
 std::string not_a_regular_file(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return stat_failure(path, errno);
-  return S_ISREG(st.st_mode) ? "" : kind_of(st.st_mode);
+  return regular_file_problem(path).first;
 }
 
 void require_regular_file(const std::string& path) {
-  if (const std::string why = not_a_regular_file(path); !why.empty())
-    throw FileError(path + ": " + why);
+  if (const auto [why, error] = regular_file_problem(path); !why.empty())
+    throw FileError(path + ": " + why, error);
 }
 
 std::string read_input_file(const std::string& path, std::size_t max_bytes) {
@@ -56,14 +66,15 @@ std::string read_input_file(const std::string& path, std::size_t max_bytes) {
   Descriptor in{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
   if (in.fd < 0) {
     const int error = errno;
-    if (const std::string why = not_a_regular_file(path); !why.empty())
-      throw FileError(path + ": " + why);
-    throw FileError(path + ": cannot open (" + std::strerror(error) + ")");
+    if (const auto [why, code] = regular_file_problem(path); !why.empty())
+      throw FileError(path + ": " + why, code);
+    throw FileError(path + ": cannot open (" + std::strerror(error) + ")", error);
   }
   struct stat st {};
   if (::fstat(in.fd, &st) != 0)
     throw FileError(path + ": cannot access (" + std::strerror(errno) + ")");
-  if (!S_ISREG(st.st_mode)) throw FileError(path + ": " + kind_of(st.st_mode));
+  if (!S_ISREG(st.st_mode))
+    throw FileError(path + ": " + kind_of(st.st_mode), S_ISDIR(st.st_mode) ? EISDIR : 0);
   const std::size_t size = static_cast<std::size_t>(st.st_size);
   std::string bytes(std::min(size, max_bytes), '\0');
   std::size_t done = 0;

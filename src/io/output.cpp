@@ -354,26 +354,37 @@ std::vector<std::string> output_files(const std::string& prefix, const OutputSet
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result,
                                   const OutputSet& outputs) {
+  const nlohmann::json report = segmentation_report(frame, params, result);
+  write_segmentation(prefix, frame, result.point_labels, result.selection.instance, report,
+                     outputs, params.threads);
+  return report;
+}
+
+void write_segmentation(const std::string& prefix, const Frame& frame,
+                        const std::vector<std::uint32_t>& point_labels,
+                        const std::vector<std::uint32_t>& instances, const nlohmann::json& report,
+                        const OutputSet& outputs, int threads) {
+  if (point_labels.size() != frame.size() || instances.size() != frame.size())
+    throw InputError(prefix + ": labels and instances must have one value per point of the frame (" +
+                     std::to_string(frame.size()) + "), got " +
+                     std::to_string(point_labels.size()) + " and " +
+                     std::to_string(instances.size()));
   // The picture (three quarters of the work: building and compressing it) is made beside the
   // rest, on a thread that ends with it (parallel_for: no OpenMP team left spin-waiting until the
   // process exits); then every file is written at once, so that a failure never leaves a partial
   // set.
   std::string png, pcd, label, instance;
-  nlohmann::json report;
   auto picture = [&] {
-    if (outputs.png) png = label_image_png(frame, result.selection.instance);
+    if (outputs.png) png = label_image_png(frame, instances);
   };
   auto rest = [&] {
-    report = segmentation_report(frame, params, result);
-    if (outputs.pcd)
-      pcd = pcd_bytes(frame,
-                      {{"label", result.point_labels}, {"instance", result.selection.instance}});
+    if (outputs.pcd) pcd = pcd_bytes(frame, {{"label", point_labels}, {"instance", instances}});
     if (outputs.labels) {
-      label = label_png(frame, result.point_labels);
-      instance = label_png(frame, result.selection.instance);
+      label = label_png(frame, point_labels);
+      instance = label_png(frame, instances);
     }
   };
-  if (params.threads != 1 && outputs.png) {
+  if (threads != 1 && outputs.png) {
     detail::parallel_for(2, 2, [&](int i) { i == 0 ? picture() : rest(); });
   } else {
     picture();
@@ -388,7 +399,6 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
   if (outputs.png) files.emplace_back(prefix + ".png", std::move(png));
   if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
   write_files_atomic(files);
-  return report;
 }
 
 namespace {

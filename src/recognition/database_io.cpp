@@ -8,6 +8,7 @@
 #include <proxseg/recognition/registration.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -368,8 +369,11 @@ Database load_database(const std::string& dir) {
   if (!check_own_files(dir)) {
     refuse_folder_database(dir);
     if (!fs::is_directory(dir))
-      throw FileError(dir + ": does not exist (expected a model database)");
-    throw FileError(file_path(dir) + ": does not exist (expected a model database in " + dir + ")");
+      throw FileError(dir + (fs::exists(dir) ? ": is not a directory" : ": does not exist") +
+                          " (expected a model database)",
+                      fs::exists(dir) ? ENOTDIR : ENOENT);
+    throw FileError(file_path(dir) + ": does not exist (expected a model database in " + dir + ")",
+                    ENOENT);
   }
   Database db;
   db.dir = dir;

@@ -84,9 +84,10 @@ Sqlite::Sqlite(const std::string& path, Mode mode) : path_(path) {
   db_ = db;
   if (rc != SQLITE_OK) {
     const std::string why = db ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
+    const int error = db ? sqlite3_system_errno(db) : 0;
     sqlite3_close(db);
     db_ = nullptr;
-    throw FileError(path + ": cannot open the model database (" + why + ")");
+    throw FileError(path + ": cannot open the model database (" + why + ")", error);
   }
   // The destructor does not run when the constructor throws: close the connection here.
   try {

@@ -41,9 +41,11 @@ struct InputError : std::runtime_error {
 };
 
 // An InputError about a file the system refuses: missing, unreadable, unwritable, a directory
-// instead of a file. Python raises OSError for it, ValueError for other InputErrors.
+// instead of a file. Python raises OSError for it (FileNotFoundError, PermissionError,
+// IsADirectoryError by `error`), ValueError for other InputErrors.
 struct FileError : InputError {
-  using InputError::InputError;
+  explicit FileError(const std::string& what, int error = 0) : InputError(what), error(error) {}
+  int error = 0;  // the errno that tells what the system refused; 0 when none applies
 };
 
 }  // namespace proxseg

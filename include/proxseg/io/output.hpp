@@ -62,6 +62,14 @@ std::string label_png(const Frame& frame, const std::vector<std::uint32_t>& labe
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result,
                                   const OutputSet& outputs = {});
+// The same files from what they are made of: the per-point labels and instances of a result and
+// its report (segmentation_report), as the Python module's SegmentResult.save keeps them.
+// threads != 1: the picture is made on a second thread. InputError when the arrays are not one
+// per point of frame.
+void write_segmentation(const std::string& prefix, const Frame& frame,
+                        const std::vector<std::uint32_t>& point_labels,
+                        const std::vector<std::uint32_t>& instance, const nlohmann::json& report,
+                        const OutputSet& outputs, int threads);
 
 // Writes one unorganized PCD (x y z rgb; x y z for a frame without colours) per candidate object
 // (not the background) to DIR/candidate_<id>.pcd, creating DIR; all files or none. Returns the
