@@ -1,6 +1,7 @@
 # proxseg: the two commands of the README.
 #   make demo   install what is missing (apt), build, segment the built-in synthetic scene
-#               (and a real mOSD scene when ../shared/data is present)
+#               (and, when ../shared/data is present, a real mOSD scene, and recognise the
+#               objects of a YCB-Video frame from a database of three models it builds)
 #   make test   install what is missing, build, run every test (ctest)
 #   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
 #   make package  a Debian package (.deb) of the library, headers, CLI and CMake/pkg-config files
@@ -34,6 +35,7 @@ PYTHON ?= /usr/bin/python3
 JOBS ?= $(shell nproc)
 DATA ?= ../shared/data
 DEMO_OUT ?= demo-out
+DEMO_OBJECTS = 009_gelatin_box 025_mug 061_foam_brick
 MAKEFLAGS += --no-print-directory
 
 .PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
@@ -55,6 +57,17 @@ demo: build
 	@$(BUILD)/proxseg segment $(DEMO_OUT)/synth-scene.pcd -o $(DEMO_OUT)/synth
 	@if [ -f $(DATA)/mosd/learn/learn0.pcd ]; then \
 	  $(BUILD)/proxseg segment $(DATA)/mosd/learn/learn0.pcd -o $(DEMO_OUT)/learn0; fi
+	@# Recognition [paper 3.4]: a database of three YCB-Video models, then a real frame.
+	@if [ -d $(DATA)/ycbv/frames ]; then \
+	  rm -rf $(DEMO_OUT)/ycbv-db; \
+	  for n in $(DEMO_OBJECTS); do \
+	    $(BUILD)/proxseg db add $(DEMO_OUT)/ycbv-db -q --name $$n \
+	      --xyz $(DATA)/ycbv/models/$$n/points.xyz >/dev/null || exit 1; done; \
+	  echo "recognising YCB-Video frame 000004 with $(DEMO_OUT)/ycbv-db ($(DEMO_OBJECTS)):"; \
+	  $(BUILD)/proxseg recognize -q --db $(DEMO_OUT)/ycbv-db \
+	    --colour $(DATA)/ycbv/frames/000004-color.png --depth $(DATA)/ycbv/frames/000004-depth.png \
+	    --meta $(DATA)/ycbv/frames/000004-meta.json -o $(DEMO_OUT)/ycbv-000004 \
+	    | awk 'NR == 1 || $$4 != "unknown"'; fi
 	@echo "demo outputs (labelled PCD, picture, JSON report) are in $(DEMO_OUT)/:"
 	@ls -1 $(DEMO_OUT)/*.png $(DEMO_OUT)/*.json | sed 's/^/  /'
 
