@@ -15,9 +15,12 @@
 #     imports the installed Python module (PYTHONPATH=PREFIX/PYTHON_DIR), checks that it and the
 #     libraries it loads come from PREFIX, shows help(proxseg.segment), and segments the scene
 #     with the labels of the installed CLI;
-#   consumer_test.sh deb BUILD_DIR PYTHON
-#     makes the .deb (cpack) into a temporary directory, unpacks it, and imports the module from
-#     the unpacked usr/ (libraries found through the module's relative RPATH).
+#   consumer_test.sh deb BUILD_DIR PYTHON SOURCE_DIR SCENE.pcd
+#     makes the .debs (cpack: libproxseg0, libproxseg-dev, proxseg, python3-proxseg) into a
+#     temporary directory, checks their names, dependencies and that no two hold one file,
+#     installs them side by side with dpkg into a root of their own, and uses that root as a
+#     user would: the C++ consumer with find_package and with pkg-config, the CLI, its man
+#     page and completion, and `import proxseg`.
 set -euo pipefail
 mode=${1:-}
 case $mode in
@@ -71,25 +74,62 @@ PY
     exit 0
     ;;
   deb)
-    build=$2 python=$3
+    build=$2 python=$3 src=$4 scene=$5
     work=$(mktemp -d)
     trap 'rm -rf "$work"' EXIT
-    (cd "$build" && cpack -G DEB -B "$work/package" >/dev/null)
-    deb=$(find "$work/package" -maxdepth 1 -name 'proxseg_*.deb')
-    dpkg-deb -x "$deb" "$work/root"
-    dpkg-deb -f "$deb" Depends | grep -q python3-numpy
-    pydir=$(dirname "$(find "$work/root" -name '__init__.py' -path '*/proxseg/*')")
+    (cd "$build" && cpack -G DEB -B "$work/package" >"$work/cpack.log" 2>&1) ||
+      { cat "$work/cpack.log" >&2; exit 1; }
+    if grep -i "warning" "$work/cpack.log"; then
+      echo "consumer: cpack warned" >&2
+      exit 1
+    fi
+    debs=()
+    for p in libproxseg0 libproxseg-dev proxseg python3-proxseg; do
+      deb=$(find "$work/package" -maxdepth 1 -name "${p}_*.deb")
+      [ -n "$deb" ] || { echo "consumer: no $p package" >&2; exit 1; }
+      debs+=("$deb")
+    done
+    dpkg-deb -f "$work/package"/libproxseg-dev_*.deb Depends | grep -q 'libproxseg0 (= '
+    dpkg-deb -f "$work/package"/proxseg_*.deb Depends | grep -q 'libproxseg0 (= '
+    dpkg-deb -f "$work/package"/python3-proxseg_*.deb Depends | grep -q python3-numpy
+    dpkg-deb --ctrl-tarfile "$work/package"/libproxseg0_*.deb | tar -xO ./shlibs |
+      grep -q '^libproxseg_core 0.1 libproxseg0'
+    # No file in two packages (dpkg would refuse the second).
+    for deb in "${debs[@]}"; do dpkg-deb -c "$deb" | awk '$1 !~ /^d/ {print $6}'; done |
+      sort | uniq -d >"$work/shared-files"
+    if [ -s "$work/shared-files" ]; then
+      echo "consumer: files in two packages:" >&2
+      cat "$work/shared-files" >&2
+      exit 1
+    fi
+    # dpkg installs them into a root of its own (its own database); the system's packages
+    # (Open3D, OpenCV, numpy) satisfy the rest outside it.
+    root=$work/root
+    mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates"
+    touch "$root/var/lib/dpkg/status"
+    dpkg --root="$root" --log=/dev/null --force-depends --force-script-chrootless \
+      --force-not-root -i "${debs[@]}" >"$work/dpkg.log" 2>&1 ||
+      { cat "$work/dpkg.log" >&2; exit 1; }
+    [ "$(dpkg --root="$root" -l | grep -c '^ii')" -eq 4 ]
+    usr=$root/usr
+    bash "$0" cmake "$usr" "$src" "$scene"
+    bash "$0" pkg-config "$usr" "$src" "$scene"
+    man -l "$usr/share/man/man1/proxseg.1.gz" 2>/dev/null | grep -q -- "--voxel-size"
+    bash -c "source $usr/share/bash-completion/completions/proxseg;
+      COMP_WORDS=(proxseg seg); COMP_CWORD=1; _proxseg; [[ \${COMPREPLY[*]} == *segment* ]]"
+    pydir=$(dirname "$(find "$usr" -name '__init__.py' -path '*/proxseg/*')")
     PYTHONPATH=$(dirname "$pydir") "$python" -c "import proxseg; help(proxseg.segment)" \
       >"$work/help.txt"
     grep -q "segment(frame" "$work/help.txt"
-    PYTHONPATH=$(dirname "$pydir") "$python" - "$work/root" <<'PY'
+    PYTHONPATH=$(dirname "$pydir") "$python" - "$root" <<'PY'
 import sys
 import proxseg
 root = sys.argv[1]
 libs = {l.split()[-1] for l in open("/proc/self/maps") if "libproxseg_" in l}
 assert libs and all(l.startswith(root) for l in libs), libs
-print(f"consumer: the .deb's module imports from {proxseg.__file__} with its own libraries")
+print(f"consumer: the .debs' module imports from {proxseg.__file__} with its own libraries")
 PY
+    echo "consumer (deb): 4 packages installed side by side; C++, CLI, man page, Python work"
     exit 0
     ;;
   cmake | pkg-config) prefix=$2 src=$3 scene=$4 ;;
@@ -110,11 +150,12 @@ else
   export PKG_CONFIG_PATH
   # shellcheck disable=SC2046  # the flags are separate words
   g++ -std=c++17 -O2 "$src/examples/segment_scene.cpp" -o "$work/segment_scene" \
-    $(pkg-config --cflags --libs proxseg)
+    $(pkg-config --cflags --libs proxseg) $(pkg-config --variable=rpath proxseg)
   exe=$work/segment_scene
 fi
-libdir=$(dirname "$(find "$prefix" -name 'libproxseg_core.so.*' | head -n 1)")
-LD_LIBRARY_PATH=$libdir "$exe" "$scene" "$work/consumer"
+# Runs from the prefix as built: find_package's imported targets and pkg-config's rpath variable
+# point the program at the prefix's libraries (README, Library).
+LD_LIBRARY_PATH= "$exe" "$scene" "$work/consumer"
 # The installed CLI finds the installed libraries through its RPATH, without LD_LIBRARY_PATH.
 "$prefix/bin/proxseg" segment "$scene" -o "$work/cli" 2>/dev/null
 cmp "$work/consumer.pcd" "$work/cli.pcd"
