@@ -4,7 +4,9 @@
 #               objects of a YCB-Video frame from a database of three models it builds)
 #   make test   install what is missing, build, run every test (ctest)
 #   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
-#   make package  a Debian package (.deb) of the library, headers, CLI and CMake/pkg-config files
+#   make package  the Debian packages: libproxseg0, libproxseg-dev (headers, CMake and pkg-config
+#               files), proxseg (the CLI, man page, completion) and python3-proxseg
+#   make docs   the C++ (Doxygen) and Python API references, and docs/parameters.md
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
@@ -38,7 +40,7 @@ DEMO_OUT ?= demo-out
 DEMO_OBJECTS = 009_gelatin_box 025_mug 061_foam_brick
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
 
 all: build
 
@@ -78,7 +80,17 @@ test: build
 # $(BUILD)/proxseg_<version>_<arch>.deb, installable with `apt install ./$(BUILD)/proxseg_*.deb`.
 package: build
 	@cd $(BUILD) && cpack -G DEB >/dev/null
-	@ls -1 $(BUILD)/proxseg_*.deb
+	@ls -1 $(BUILD)/*_$$(sed -n 's/^project(proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)_*.deb
+
+# The references: C++ (Doxygen, public headers, warnings are errors) into $(BUILD)/docs/cpp,
+# Python (pydoc) into $(BUILD)/docs/python, and docs/parameters.md from the parameter table.
+docs: build
+	@rm -rf $(BUILD)/docs && mkdir -p $(BUILD)/docs/cpp $(BUILD)/docs/python
+	@PROXSEG_DOCS_OUT=$(abspath $(BUILD))/docs/cpp doxygen docs/Doxyfile
+	@cd $(BUILD)/docs/python && PYTHONPATH=$(abspath $(BUILD))/python /usr/bin/python3 -W error \
+	  -m pydoc -w proxseg proxseg.dask >/dev/null
+	@$(BUILD)/proxseg params --markdown > docs/parameters.md
+	@echo "API reference: $(BUILD)/docs/cpp/html/index.html, $(BUILD)/docs/python/proxseg.html"
 
 # The whole suite under ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails
 # the test it happens in. Its own build tree, without the benchmarks, with a static library (the

@@ -3,6 +3,7 @@
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/mesh_units.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
 #include <cmath>
@@ -95,26 +96,6 @@ void report(const proxseg::ModelView& v, bool input_coloured) {
             << ") from " << v.source << "\n";
 }
 
-// A mesh whose size is implausible for an object in the given units: refused, with the fix.
-void check_units(const proxseg::Mesh& mesh, const DbOptions& o) {
-  if (mesh.vertices.empty()) return;
-  Eigen::Vector3f lo = mesh.vertices.front(), hi = lo;
-  for (const Eigen::Vector3f& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  const double size = (hi - lo).norm();  // metres, after --units
-  char what[160];
-  std::snprintf(what, sizeof what, "%s: %.4g m across with --units %s", o.mesh.c_str(), size,
-                o.units.c_str());
-  // Objects a depth camera can pick out on a table: about 1 cm to 2 m.
-  if (o.units == "m" && size > 5)
-    throw InputError(std::string(what) +
-                     ", too large for an object: its coordinates look like millimetres; add "
-                     "--units mm");
-  if (o.units == "mm" && size < 0.005)
-    throw InputError(std::string(what) +
-                     ", too small for an object: its coordinates look like metres; use "
-                     "--units m (the default)");
-}
-
 std::string megabytes(std::size_t bytes) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f MB", bytes / 1e6);
@@ -172,7 +153,7 @@ int run_render(const DbOptions& o) {
     throw InputError("--distance: expected metres >= 0");
   if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise: expected metres in [0, 1)");
   const proxseg::Mesh mesh = proxseg::read_mesh(o.mesh, o.units == "mm" ? 0.001 : 1.0);
-  check_units(mesh, o);
+  proxseg::check_mesh_units(mesh, o.mesh, o.units, "--units");
   proxseg::ViewSphereParams p;
   p.views = o.render_views;
   p.distance = o.distance;

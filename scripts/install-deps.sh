@@ -7,16 +7,19 @@
 # libFuzzer, `make fuzz`)
 set -euo pipefail
 
-# dpkg-dev: dpkg-shlibdeps, which `make package` uses to declare the .deb's dependencies.
+# dpkg-dev: dpkg-shlibdeps, which `make package` uses to declare the .debs' dependencies;
+# man-db reads the man page in the package test. doxygen: `make docs`.
 # The Python module: python3-dev, pybind11-dev and python3-numpy build it; pytest runs its tests;
 # python3-open3d (Open3D interop), python3-matplotlib and python3-tqdm (the examples) are tested
 # when present and installed here so that they are. python3-distributed and python3-dask run
-# batches on a Dask cluster (python3 -m proxseg.dask, docs/batch.md).
+# batches on a Dask cluster (python3 -m proxseg.dask, docs/batch.md). python3-mypy checks the
+# type stubs and annotations; python3-venv, python3-pip and python3-setuptools `pip install .`.
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev libsqlite3-dev
-  dpkg-dev
+  dpkg-dev man-db doxygen
   python3-dev pybind11-dev python3-numpy python3-pytest python3-open3d python3-matplotlib
-  python3-tqdm python3-distributed python3-dask)
+  python3-tqdm python3-distributed python3-dask python3-mypy python3-venv python3-pip
+  python3-setuptools)
 if [ "${1:-}" = "--bench" ]; then
   packages+=(libpcl-dev libopencv-contrib-dev gnuplot-nox)
 fi

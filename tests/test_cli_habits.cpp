@@ -128,8 +128,8 @@ TEST(CliHabits, MeshesOfAnImplausibleSizeForTheirUnitAreRefusedWithTheFix) {
   const std::string mesh = kData + "/lmo/models/obj_000001.ply";  // millimetres
   CliRun r = run("db render " + (d / "db").string() + " --name ape " + mesh + " --views 2");
   EXPECT_EQ(r.code, 1);
-  EXPECT_TRUE(has(r.err, "too large for an object: its coordinates look like millimetres; add "
-                         "--units mm"))
+  EXPECT_TRUE(has(r.err, "142.1 m across with --units m, too large for an object: its "
+                         "coordinates look like millimetres; use --units mm"))
       << r.err;
   EXPECT_FALSE(fs::exists(d / "db")) << "refused before the database is made";
   r = run("db render " + (d / "db").string() + " --name ape " + mesh + " --views 2 --units mm");

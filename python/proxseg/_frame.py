@@ -19,14 +19,27 @@ PathLike = Union[str, "os.PathLike[str]"]
 def read_point_cloud(path: PathLike, *, label_field: str = "label") -> Frame:
     """Reads a point cloud file into a :class:`Frame`.
 
-    path: ``.pcd`` (ascii, binary or binary_compressed; organized or not; fields x y z and
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``.pcd`` (ascii, binary or binary_compressed; organized or not; fields x y z and
         optionally rgb/rgba) or ``.ply`` (vertices, optionally with colours). A cloud without
         colour is read without it (``frame.rgb is None``).
-    label_field: an integer PCD field kept as ``frame.label`` (e.g. ``"instance"`` of the
-        CLI's output PCD).
+    label_field : str
+        An integer PCD field kept as ``frame.label`` (e.g. ``"instance"`` of the CLI's output).
 
-    Raises OSError when the file cannot be opened, ValueError when its content is not a valid
-    point cloud (the message names the file, line or field and what was expected).
+    Returns
+    -------
+    Frame
+        Organized (H x W) when the file is.
+
+    Raises
+    ------
+    FileNotFoundError, PermissionError, IsADirectoryError, OSError
+        When the file cannot be opened.
+    ValueError
+        When its content is not a valid point cloud (the message names the file, line or field
+        and what was expected).
     """
     return _proxseg.read_point_cloud(os.fspath(path), label_field)
 
@@ -34,11 +47,23 @@ def read_point_cloud(path: PathLike, *, label_field: str = "label") -> Frame:
 def read_rgbd(color: PathLike, depth: PathLike, *, meta: Optional[PathLike] = None,
               intrinsics: Optional[PathLike] = None) -> Frame:
     """Reads an RGB-D pair of images into an organized :class:`Frame`, as the CLI's
-    ``--color/--depth`` do.
+    ``--colour/--depth`` do.
 
-    color: 8-bit PNG or JPEG. depth: 16-bit PNG (0 = no return).
-    meta: a YCB-Video ``-meta.json`` (intrinsic_matrix, factor_depth), or
-    intrinsics: a JSON file ``{"fx", "fy", "cx", "cy", "depth_scale"}`` (exactly one of them).
+    Parameters
+    ----------
+    color : str or os.PathLike
+        8-bit PNG or JPEG.
+    depth : str or os.PathLike
+        16-bit PNG in depth units (0 = no return).
+    meta : str or os.PathLike, optional
+        A YCB-Video ``-meta.json`` (intrinsic_matrix, factor_depth); or
+    intrinsics : str or os.PathLike, optional
+        A JSON file ``{"fx", "fy", "cx", "cy", "depth_scale"}``. Exactly one of the two.
+
+    Returns
+    -------
+    Frame
+        Organized, the images' size; points in metres.
     """
     return _proxseg.read_rgbd(os.fspath(color), os.fspath(depth),
                               meta=os.fspath(meta) if meta is not None else "",
@@ -49,14 +74,23 @@ def from_rgbd(color: Optional[np.ndarray], depth: np.ndarray, K: Any,
               depth_scale: float = 1000.0) -> Frame:
     """An organized :class:`Frame` from a colour and a depth image in memory.
 
-    color: (H, W, 3) uint8 RGB, or None for a colourless frame.
-    depth: (H, W) uint16 in depth units, or float32/float64 (0 or NaN = no return).
-    K: the 3x3 camera matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] in pixels.
-    depth_scale: depth units per metre (1000 for millimetres, YCB-Video: 10000; 1.0 for a
-        float depth in metres).
+    Parameters
+    ----------
+    color : numpy.ndarray or None
+        (H, W, 3) uint8 RGB, or None for a colourless frame.
+    depth : numpy.ndarray
+        (H, W) uint16 in depth units, or float32/float64 (0 or NaN = no return).
+    K : array-like
+        The 3x3 camera matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] in pixels.
+    depth_scale : float
+        Depth units per metre (1000 for millimetres, YCB-Video: 10000; 1.0 for a float depth in
+        metres).
 
-    Points are ((u - cx) z / fx, (v - cy) z / fy, z) with z = depth / depth_scale, exactly as
-    :func:`read_rgbd` computes them.
+    Returns
+    -------
+    Frame
+        Points ((u - cx) z / fx, (v - cy) z / fy, z) with z = depth / depth_scale, exactly as
+        :func:`read_rgbd` computes them.
     """
     return _proxseg._from_rgbd(color, np.asarray(depth), np.asarray(K, dtype=np.float64),
                                float(depth_scale))

@@ -123,17 +123,34 @@ def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
     """Segments a scene and names every candidate object from the model database, with its pose
     [paper 3.1-3.4]: what ``proxseg recognize SCENE --db DB`` does.
 
-    frame: as for :func:`segment` (Frame, path, numpy points with ``rgb``, Open3D cloud).
-    db: a :class:`Database` (load it once for many frames) or its directory.
-    params: RecognitionParams or a dict (JSON layout, partial dicts over the defaults).
-    segment_params, preset: the segmentation's parameters, as ``params`` and ``preset`` of
-        :func:`segment`.
-    overrides: recognition parameters by name (``min_score=0.6``, ``shortlist=0``,
+    Parameters
+    ----------
+    frame : Frame, str, os.PathLike, array-like or Open3D geometry
+        As for :func:`segment`.
+    db : Database, str or os.PathLike
+        A :class:`Database` (load it once for many frames) or its directory.
+    params : RecognitionParams or dict, optional
+        JSON layout; partial dicts over the defaults.
+    segment_params, preset : optional
+        The segmentation's parameters, as ``params`` and ``preset`` of :func:`segment`.
+    rgb : array-like, optional
+        Colours of array points.
+    **overrides
+        Recognition parameters by name (``min_score=0.6``, ``shortlist=0``,
         ``registration={"icp_iterations": 50}``, ``seed=2``).
 
-    Returns a :class:`RecognitionResult` (objects with names, scores, 4x4 poses; per-point
-    ``object_ids``; the segmentation). Equals the CLI's answer for the same input and parameters.
-    Raises ValueError for bad input or parameters, OSError for a database that cannot be read.
+    Returns
+    -------
+    RecognitionResult
+        Objects with names, scores and 4x4 poses; per-point ``object_ids``; the segmentation.
+        Equal to the CLI's answer for the same input and parameters.
+
+    Raises
+    ------
+    ValueError
+        For bad input or parameters.
+    OSError
+        For a database that cannot be read (FileNotFoundError when it does not exist).
     """
     f = as_frame(frame, rgb)
     database = as_database(db)
@@ -153,11 +170,20 @@ def recognize_object(points: Any, db: DatabaseLike, params: Optional[Any] = None
     """Names one already segmented object cloud from the model database, with its pose
     [paper 3.4, Algorithm 3]: what ``proxseg recognize --object CLOUD --db DB`` does.
 
-    points: a Frame, path, numpy array (N, 3) metres with ``rgb`` (uint8), or Open3D cloud, in
-        the sensor frame (sensor at the origin).
-    params, overrides: as for :func:`recognize`.
+    Parameters
+    ----------
+    points : Frame, str, os.PathLike, array-like or Open3D PointCloud
+        The object's points (N, 3) in metres, in the sensor frame (sensor at the origin).
+    db : Database, str or os.PathLike
+    params : RecognitionParams or dict, optional
+    rgb : array-like, optional
+    **overrides
+        As for :func:`recognize`.
 
-    Returns a :class:`RecognitionResult` with one object (id 0) and no segmentation.
+    Returns
+    -------
+    RecognitionResult
+        One object (id 0) and no segmentation.
     """
     f = as_frame(points, rgb)
     database = as_database(db)

@@ -156,11 +156,20 @@ class SegmentResult:
 
 
 def label_colours(labels: np.ndarray) -> np.ndarray:
-    """A colour per label for display: float64 RGB in [0, 1] of shape ``labels.shape + (3,)``,
-    black for 0, distinct hues by golden-ratio steps otherwise; the same label, the same colour.
-    ``labels.reshape(-1)`` of an organized frame's result colours
-    ``open3d.geometry.PointCloud.colors`` (``open3d.utility.Vector3dVector(colours.reshape(-1,
-    3))``) point for point."""
+    """A colour per label for display.
+
+    Parameters
+    ----------
+    labels : array-like of int
+        Labels or instances of a result (any shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        Float64 RGB in [0, 1] of shape ``labels.shape + (3,)``: black for 0, distinct hues by
+        golden-ratio steps otherwise; the same label, the same colour. Reshaped to (-1, 3) it
+        colours ``open3d.geometry.PointCloud.colors`` point for point (:meth:`SegmentResult.to_open3d`).
+    """
     labels = np.asarray(labels)
     hue = np.mod(labels.astype(np.float64) * 0.618033988749895, 1.0) * 6.0
     s, v = 0.7, 0.95
@@ -214,22 +223,41 @@ def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] =
     """Segments a scene into regions and candidate objects, without training [paper 3.1-3.3]:
     voxels, colour / texture / shape features, Algorithm 1 + k-means, the Potts MRF, selection.
 
-    frame: a :class:`Frame`, a file path, a numpy array of points (N, 3) or (H, W, 3) in metres
-        (NaN = no return) with ``rgb`` (uint8) beside it, or an Open3D PointCloud (legacy or
-        ``open3d.t``). Without colour the colour and texture blocks are off (the report says so).
-    params: a :class:`SegmentParams` or a dict laid out like the JSON config (partial dicts are
-        applied over the preset).
-    preset: "default" (best measured) or "paper" (exactly the paper's settings).
-    overrides: parameters by name, over ``params``: a section as a dict
-        (``mrf={"enabled": False}``) or any parameter by its own name when that is unique
-        (``voxel_size=0.01``, ``threads=2``). Lengths in metres.
+    Parameters
+    ----------
+    frame : Frame, str, os.PathLike, array-like or Open3D geometry
+        A :class:`Frame`; a file path; points (N, 3) or (H, W, 3) in metres (NaN = no return)
+        with ``rgb`` beside them; an Open3D PointCloud (no image grid: the slower path, said
+        once) or RGB-D image (:func:`from_open3d`). Without colour the colour and texture
+        blocks are off (the report says so).
+    params : SegmentParams or dict, optional
+        Laid out like the JSON config; partial dicts are applied over the preset.
+    preset : {"default", "paper"}, optional
+        The best measured settings, or exactly the paper's.
+    rgb : array-like, optional
+        Colours of array points: uint8 0-255 or floats in [0, 1].
+    **overrides
+        Parameters by name, over ``params``: a section as a dict (``mrf={"enabled": False}``)
+        or any parameter by its own name when that is unique (``voxel_size=0.01``,
+        ``threads=2``). :func:`parameters` lists them; lengths in metres.
 
-    Returns a :class:`SegmentResult`: per-point ``labels`` and ``instances`` in the frame's shape,
-    the ``candidates``, ``times_ms`` and the ``params`` used. The result equals the CLI's
-    ``proxseg segment`` with the same parameters, whatever ``threads`` is.
+    Returns
+    -------
+    SegmentResult
+        Per-point ``labels`` and ``instances`` in the frame's shape, the ``candidates``,
+        ``times_ms`` and the ``params`` used; ``save()`` writes the CLI's files. Equal to the
+        CLI's ``proxseg segment`` with the same parameters, whatever ``threads`` is.
 
-    Raises ValueError for a bad frame or parameter (the message names the field), TypeError for an
-    argument of the wrong kind. The GIL is released while it runs: threads may segment at once.
+    Raises
+    ------
+    ValueError
+        For a bad frame or parameter (the message names the field).
+    TypeError
+        For an argument of the wrong kind.
+
+    Notes
+    -----
+    The GIL is released while it runs: threads may segment at once.
     """
     f = as_frame(frame, rgb)
     tree = resolve_segment_params(params, preset, overrides)

@@ -1,6 +1,7 @@
 // proxseg.Database: the model database [paper 3.4] on disk, opened once and shared by threads.
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/mesh_units.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
 #include <array>
@@ -147,6 +148,7 @@ void bind_database(py::module_& m) {
             if (!(depth_noise >= 0 && depth_noise < 1))
               throw InputError("depth_noise: expected metres in [0, 1)");
             const Mesh mesh = read_mesh(mesh_path, scale);
+            check_mesh_units(mesh, mesh_path, scale == 1.0 ? "m" : "mm", "units=");
             ViewSphereParams p;
             p.views = views;
             p.distance = distance;

@@ -172,3 +172,12 @@ def test_the_stubs_and_annotations_pass_mypy():
                             "proxseg"], capture_output=True, text=True, cwd=package.parent,
                            env=env)
     assert typed.returncode == 0, typed.stdout + typed.stderr
+
+
+def test_render_refuses_a_mesh_implausible_for_its_units(tmp_path):
+    db = proxseg.Database(tmp_path / "db", create=True)
+    mesh = data("lmo/models/obj_000001.ply")  # millimetres
+    with pytest.raises(ValueError, match=r"m across with units=m, too large for an object: its "
+                                         r"coordinates look like millimetres; use units=mm"):
+        db.render("ape", mesh, views=2)
+    assert len(db.render("ape", mesh, views=2, units="mm")) == 2

@@ -1,0 +1,38 @@
+"""Builds the extension proxseg._proxseg with CMake for `pip install .` (pyproject.toml): the
+proxseg libraries static, so that the module is the package's only compiled file and needs no
+library path; Open3D, OpenCV and the rest from the system, as the CMake build finds them."""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+ROOT = Path(__file__).resolve().parent
+
+
+class CMakeExtension(Extension):
+    def __init__(self, name: str) -> None:
+        super().__init__(name, sources=[])
+
+
+class CMakeBuild(build_ext):
+    def build_extension(self, ext: Extension) -> None:
+        build = Path(self.build_temp).resolve() / "cmake"
+        jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
+        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
+                        "-DPROXSEG_SHARED=OFF", "-DPROXSEG_BUILD_TESTS=OFF",
+                        "-DPROXSEG_BUILD_BENCH=OFF",
+                        f"-DPython3_EXECUTABLE={sys.executable}"], check=True)
+        subprocess.run(["cmake", "--build", str(build), "--target", "_proxseg", "-j", jobs],
+                       check=True)
+        built = next((build / "python" / "proxseg").glob("_proxseg*.so"))
+        target = Path(self.get_ext_fullpath(ext.name))
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(built, target)
+
+
+setup(ext_modules=[CMakeExtension("proxseg._proxseg")], cmdclass={"build_ext": CMakeBuild})
