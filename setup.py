@@ -24,7 +24,8 @@ class CMakeBuild(build_ext):
         build = Path(self.build_temp).resolve() / "cmake"
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
         subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
-                        "-DPROXSEG_SHARED=OFF", "-DPROXSEG_BUILD_TESTS=OFF",
+                        "-DPROXSEG_SHARED=OFF", "-DCMAKE_POSITION_INDEPENDENT_CODE=ON",
+                        "-DPROXSEG_BUILD_TESTS=OFF",
                         "-DPROXSEG_BUILD_BENCH=OFF",
                         f"-DPython3_EXECUTABLE={sys.executable}"], check=True)
         subprocess.run(["cmake", "--build", str(build), "--target", "_proxseg", "-j", jobs],

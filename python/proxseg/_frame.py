@@ -44,15 +44,16 @@ def read_point_cloud(path: PathLike, *, label_field: str = "label") -> Frame:
     return _proxseg.read_point_cloud(os.fspath(path), label_field)
 
 
-def read_rgbd(color: PathLike, depth: PathLike, *, meta: Optional[PathLike] = None,
-              intrinsics: Optional[PathLike] = None) -> Frame:
+def read_rgbd(colour: Optional[PathLike] = None, depth: Optional[PathLike] = None, *,
+              meta: Optional[PathLike] = None, intrinsics: Optional[PathLike] = None,
+              color: Optional[PathLike] = None) -> Frame:
     """Reads an RGB-D pair of images into an organized :class:`Frame`, as the CLI's
     ``--colour/--depth`` do.
 
     Parameters
     ----------
-    color : str or os.PathLike
-        8-bit PNG or JPEG.
+    colour : str or os.PathLike
+        8-bit PNG or JPEG (``color=`` is accepted too).
     depth : str or os.PathLike
         16-bit PNG in depth units (0 = no return).
     meta : str or os.PathLike, optional
@@ -65,19 +66,30 @@ def read_rgbd(color: PathLike, depth: PathLike, *, meta: Optional[PathLike] = No
     Frame
         Organized, the images' size; points in metres.
     """
-    return _proxseg.read_rgbd(os.fspath(color), os.fspath(depth),
+    colour = _one_colour(colour, color)
+    if colour is None or depth is None:
+        raise TypeError("read_rgbd: needs the colour and the depth image")
+    return _proxseg.read_rgbd(os.fspath(colour), os.fspath(depth),
                               meta=os.fspath(meta) if meta is not None else "",
                               intrinsics=os.fspath(intrinsics) if intrinsics is not None else "")
 
 
-def from_rgbd(color: Optional[np.ndarray], depth: np.ndarray, K: Any,
-              depth_scale: float = 1000.0) -> Frame:
+def _one_colour(colour: Any, color: Any) -> Any:
+    """The colour argument, given under either spelling (not both)."""
+    if colour is not None and color is not None:
+        raise TypeError("give colour or color, not both (the same argument)")
+    return colour if colour is not None else color
+
+
+def from_rgbd(colour: Optional[np.ndarray] = None, depth: Optional[np.ndarray] = None,
+              K: Any = None, depth_scale: float = 1000.0, *,
+              color: Optional[np.ndarray] = None) -> Frame:
     """An organized :class:`Frame` from a colour and a depth image in memory.
 
     Parameters
     ----------
-    color : numpy.ndarray or None
-        (H, W, 3) uint8 RGB, or None for a colourless frame.
+    colour : numpy.ndarray or None
+        (H, W, 3) uint8 RGB, or None for a colourless frame (``color=`` is accepted too).
     depth : numpy.ndarray
         (H, W) uint16 in depth units, or float32/float64 (0 or NaN = no return).
     K : array-like
@@ -92,8 +104,10 @@ def from_rgbd(color: Optional[np.ndarray], depth: np.ndarray, K: Any,
         Points ((u - cx) z / fx, (v - cy) z / fy, z) with z = depth / depth_scale, exactly as
         :func:`read_rgbd` computes them.
     """
-    return _proxseg._from_rgbd(color, np.asarray(depth), np.asarray(K, dtype=np.float64),
-                               float(depth_scale))
+    if depth is None or K is None:
+        raise TypeError("from_rgbd: needs the depth image and the camera matrix K")
+    return _proxseg._from_rgbd(_one_colour(colour, color), np.asarray(depth),
+                               np.asarray(K, dtype=np.float64), float(depth_scale))
 
 
 _warned_unorganized = False

@@ -4,17 +4,19 @@ pose [paper 3.4, Algorithms 2-3]."""
 from __future__ import annotations
 
 import copy
+import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Type
+from typing import Any, Dict, List, Optional, Type, Union
 
 import numpy as np
 
 from . import _proxseg
 from ._database import DatabaseLike, as_database
-from ._frame import as_frame
+from ._frame import as_frame, to_open3d
+from ._proxseg import Frame
 from ._params import RecognitionParams, SegmentParams, _Section, resolve_recognition_params
 from ._params import resolve_segment_params
-from ._segment import SegmentResult, segmentation_result
+from ._segment import SegmentResult, label_colours, segmentation_result
 
 
 @dataclass(frozen=True)
@@ -77,6 +79,60 @@ class RecognitionResult:
     segmentation: Optional[SegmentResult]
     times_ms: Dict[str, float]
     params: Dict[str, _Section]
+    frame: Optional[Frame] = field(default=None, repr=False, compare=False)
+    # What save() writes from (C++ objects, not picklable: None after pickling).
+    _output: Any = field(default=None, repr=False, compare=False)
+
+    def save(self, prefix: Union[str, "os.PathLike[str]"], *, outputs: str = "pcd,png,json"
+             ) -> List[str]:
+        """Writes the files ``proxseg recognize ... -o PREFIX`` writes.
+
+        Parameters
+        ----------
+        prefix : str or os.PathLike
+            A scene: ``PREFIX.pcd`` (field ``object``), ``PREFIX.png`` (the picture with its
+            legend), ``PREFIX.json`` (the report), and with ``labels`` ``PREFIX.object.png``;
+            one object (:func:`recognize_object`): ``PREFIX.json`` and ``PREFIX.png``. Written
+            all or none.
+        outputs : str
+            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, or ``all``.
+
+        Returns
+        -------
+        list of str
+            The files written.
+
+        Raises
+        ------
+        ValueError
+            For an unknown output name, or a result that was pickled (the models' views it
+            draws stay with the process that recognised).
+        OSError
+            When a file cannot be written.
+        """
+        if self._output is None or self.frame is None:
+            raise ValueError("save: this result was pickled; save it where it was recognised")
+        return _proxseg._write_recognition(os.fspath(prefix), self.frame, self._output, outputs)
+
+    def to_open3d(self) -> Any:
+        """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by object
+        (``label_colours(object_ids)``; black for points of no object).
+
+        Returns
+        -------
+        open3d.geometry.PointCloud
+        """
+        if self.frame is None or self.object_ids is None:
+            raise ValueError("to_open3d: only a scene's result (recognize) has per-point objects")
+        return to_open3d(self.frame, label_colours(self.object_ids))
+
+    def __getstate__(self) -> Dict[str, Any]:
+        state = dict(self.__dict__)
+        state["_output"] = None
+        return state
+
+    def __setstate__(self, state: Dict[str, Any]) -> None:
+        self.__dict__.update(state)
 
     @property
     def names(self) -> List[str]:
@@ -156,13 +212,14 @@ def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
     database = as_database(db)
     seg = resolve_segment_params(segment_params, preset, {})
     rec = resolve_recognition_params(params, overrides)
-    raw = _proxseg._recognize_scene(f, database._db, seg, rec)
+    raw = _proxseg._recognize_scene(f, database._db, seg, rec, _input_name(frame))
     ids = raw["object_ids"]
     return RecognitionResult(
         objects=[_object(o) for o in raw["objects"]], object_ids=ids,
         segmentation=segmentation_result(raw["segmentation"], f), times_ms=dict(raw["times_ms"]),
         params={"segmentation": _params(copy.deepcopy(seg), SegmentParams),
-                "recognition": _params(rec, RecognitionParams)})
+                "recognition": _params(rec, RecognitionParams)},
+        frame=f, _output=raw["output"])
 
 
 def recognize_object(points: Any, db: DatabaseLike, params: Optional[Any] = None, *,
@@ -188,7 +245,13 @@ def recognize_object(points: Any, db: DatabaseLike, params: Optional[Any] = None
     f = as_frame(points, rgb)
     database = as_database(db)
     rec = resolve_recognition_params(params, overrides)
-    raw = _proxseg._recognize_object(f, database._db, rec)
+    raw = _proxseg._recognize_object(f, database._db, rec, _input_name(points))
     return RecognitionResult(objects=[_object(o) for o in raw["objects"]], object_ids=None,
                              segmentation=None, times_ms=dict(raw["times_ms"]),
-                             params={"recognition": _params(rec, RecognitionParams)})
+                             params={"recognition": _params(rec, RecognitionParams)},
+                             frame=f, _output=raw["output"])
+
+
+def _input_name(data: Any) -> str:
+    """The report's "input": the file's path, or "python" for data in memory."""
+    return os.fspath(data) if isinstance(data, (str, os.PathLike)) else "python"

@@ -40,6 +40,30 @@ py::list objects_list(std::vector<SceneObject>& objects, const Database& db) {
   return out;
 }
 
+// What RecognitionResult.save writes from: the objects and the report as the CLI would make them,
+// and the database snapshot whose views the picture draws.
+struct RecognitionOutput {
+  std::vector<SceneObject> objects;
+  nlohmann::json report;
+  std::shared_ptr<const Database> db;
+  bool scene = true;
+};
+
+std::shared_ptr<RecognitionOutput> recognition_output(const std::vector<SceneObject>& objects,
+                                                      const std::shared_ptr<const Database>& db,
+                                                      const std::string& input,
+                                                      const RecognitionParams& rec,
+                                                      const SegmentParams* seg,
+                                                      nlohmann::json times) {
+  auto out = std::make_shared<RecognitionOutput>();
+  out->objects = objects;
+  out->db = db;
+  out->scene = seg != nullptr;
+  out->report = recognition_report(input, db->dir, *db, rec, seg, objects);
+  out->report["times_ms"] = std::move(times);
+  return out;
+}
+
 double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
@@ -47,6 +71,23 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 void bind_recognition(py::module_& m) {
+  py::class_<RecognitionOutput, std::shared_ptr<RecognitionOutput>>(
+      m, "_RecognitionOutput", "What RecognitionResult.save writes from (not picklable).");
+  m.def(
+      "_write_recognition",
+      [](const std::string& prefix, const Frame& frame, const RecognitionOutput& out,
+         const std::string& outputs) {
+        const OutputSet set = parse_outputs(outputs, "outputs");
+        {
+          py::gil_scoped_release release;
+          write_recognition(prefix, frame, out.objects, *out.db, out.report, out.scene, set);
+        }
+        std::vector<std::string> files;
+        for (const std::string& f : output_files(prefix, set, true))
+          if (out.scene || f == prefix + ".json" || f == prefix + ".png") files.push_back(f);
+        return files;
+      },
+      py::arg("prefix"), py::arg("frame"), py::arg("output"), py::arg("outputs"));
   m.def(
       "_recognition_params",
       [](const py::dict& overrides) {
@@ -59,7 +100,7 @@ void bind_recognition(py::module_& m) {
   m.def(
       "_recognize_scene",
       [](const Frame& frame, const SharedDatabase& d, const py::dict& segment_params_dict,
-         const py::dict& params) {
+         const py::dict& params, const std::string& input) {
         const SegmentParams seg = segment_params(segment_params_dict);
         const RecognitionParams rec = recognition_params(params);
         SegmentResult segmentation;
@@ -79,6 +120,9 @@ void bind_recognition(py::module_& m) {
           ids = recognition_labels(frame, objects);
         }
         py::dict out;
+        out["output"] = recognition_output(
+            objects, snapshot, input, rec, &seg,
+            {{"segment", segment_ms}, {"recognize", recognize_ms}, {"total", segment_ms + recognize_ms}});
         out["objects"] = objects_list(objects, db);
         out["object_ids"] = to_numpy(std::move(ids), point_shape(frame));
         out["segmentation"] = segmentation_dict(frame, seg, std::move(segmentation));
@@ -88,10 +132,12 @@ void bind_recognition(py::module_& m) {
         out["times_ms"] = times;
         return out;
       },
-      py::arg("frame"), py::arg("db"), py::arg("segment_params"), py::arg("params"));
+      py::arg("frame"), py::arg("db"), py::arg("segment_params"), py::arg("params"),
+      py::arg("input"));
   m.def(
       "_recognize_object",
-      [](const Frame& cloud, const SharedDatabase& d, const py::dict& params) {
+      [](const Frame& cloud, const SharedDatabase& d, const py::dict& params,
+         const std::string& input) {
         const RecognitionParams rec = recognition_params(params);
         std::vector<SceneObject> objects;
         double recognize_ms = 0;
@@ -103,13 +149,15 @@ void bind_recognition(py::module_& m) {
           recognize_ms = ms_since(t);
         }
         py::dict out;
+        out["output"] = recognition_output(objects, db, input, rec, nullptr,
+                                           {{"recognize", recognize_ms}, {"total", recognize_ms}});
         out["objects"] = objects_list(objects, *db);
         py::dict times;
         times["recognize"] = recognize_ms;
         out["times_ms"] = times;
         return out;
       },
-      py::arg("cloud"), py::arg("db"), py::arg("params"));
+      py::arg("cloud"), py::arg("db"), py::arg("params"), py::arg("input"));
 }
 
 }  // namespace proxseg::python

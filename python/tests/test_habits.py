@@ -181,3 +181,60 @@ def test_render_refuses_a_mesh_implausible_for_its_units(tmp_path):
                                          r"coordinates look like millimetres; use units=mm"):
         db.render("ape", mesh, views=2)
     assert len(db.render("ape", mesh, views=2, units="mm")) == 2
+
+
+def _without_run_details(report):
+    """A report without what differs from run to run or by file name: times, the input's name,
+    the files' names."""
+    if isinstance(report, dict):
+        return {k: _without_run_details(v) for k, v in report.items()
+                if "times" not in k and k not in ("input", "file")}
+    if isinstance(report, list):
+        return [_without_run_details(v) for v in report]
+    return report
+
+
+def test_recognition_results_save_the_files_of_the_cli(tmp_path):
+    from conftest import YCB_OBJECTS, ycb_frame
+    db = tmp_path / "db"
+    for name in YCB_OBJECTS:
+        run_cli("db", "add", db, "--name", name, "--xyz", data(f"ycbv/models/{name}/points.xyz"))
+    f = ycb_frame(4)
+    frame = proxseg.read_rgbd(f["color"], f["depth"], meta=f["meta"])
+    result = proxseg.recognize(frame, db, segment_params={"threads": 1}, threads=1)
+    files = result.save(tmp_path / "py", outputs="all")
+    assert sorted(Path(p).name for p in files) == ["py.json", "py.object.png", "py.pcd", "py.png"]
+    run_cli("recognize", "--db", db, "--colour", f["color"], "--depth", f["depth"], "--meta",
+            f["meta"], "-o", tmp_path / "cli", "--outputs", "all", "--threads", "1")
+    for ext in (".pcd", ".png", ".object.png"):
+        assert (tmp_path / f"py{ext}").read_bytes() == (tmp_path / f"cli{ext}").read_bytes(), ext
+    py = json.loads((tmp_path / "py.json").read_text())
+    cli = json.loads((tmp_path / "cli.json").read_text())
+    assert _without_run_details(py) == _without_run_details(cli)
+    assert "025_mug" in result.names
+    cloud = result.to_open3d() if _has_open3d() else None
+    assert cloud is None or len(cloud.points) == frame.valid_count
+    again = pickle.loads(pickle.dumps(result))
+    assert again.names == result.names
+    with pytest.raises(ValueError, match="was pickled"):
+        again.save(tmp_path / "again")
+    one = proxseg.recognize_object(data("pcl/milk.pcd"), db)
+    assert sorted(Path(p).name for p in one.save(tmp_path / "one")) == ["one.json", "one.png"]
+
+
+def _has_open3d():
+    try:
+        import open3d  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def test_colour_and_color_both_name_the_colour_image():
+    f = {k: v for k, v in __import__("conftest").ycb_frame(1).items()}
+    a = proxseg.read_rgbd(f["color"], f["depth"], meta=f["meta"])
+    b = proxseg.read_rgbd(colour=f["color"], depth=f["depth"], meta=f["meta"])
+    c = proxseg.read_rgbd(color=f["color"], depth=f["depth"], meta=f["meta"])
+    assert np.array_equal(a.rgb, b.rgb) and np.array_equal(a.rgb, c.rgb)
+    with pytest.raises(TypeError, match="colour or color, not both"):
+        proxseg.read_rgbd(colour=f["color"], color=f["color"], depth=f["depth"], meta=f["meta"])
