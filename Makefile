@@ -7,6 +7,7 @@
 #   make package  the Debian packages: libproxseg0, libproxseg-dev (headers, CMake and pkg-config
 #               files), proxseg (the CLI, man page, completion) and python3-proxseg
 #   make docs   the C++ (Doxygen) and Python API references, and docs/parameters.md
+#   make test-pip  `pip install .` into a fresh virtual environment, import, segment a scene
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
 #   make bench  install what is missing (PCL too), build, run every benchmark (docs/results.md)
 #   make bench-seg  only the segmentation benchmark: proxseg vs PCL on mOSD learn and the
@@ -40,7 +41,7 @@ DEMO_OUT ?= demo-out
 DEMO_OBJECTS = 009_gelatin_box 025_mug 061_foam_brick
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
+.PHONY: all deps deps-bench configure build demo test test-sanitize test-pip package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch format clean
 
 all: build
 
@@ -81,6 +82,17 @@ test: build
 package: build
 	@cd $(BUILD) && cpack -G DEB >/dev/null
 	@ls -1 $(BUILD)/*_$$(sed -n 's/^project(proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)_*.deb
+
+# `pip install .` as a Python user does it: a fresh virtual environment (system site packages,
+# for numpy and Debian's setuptools; no package index), the module built by setup.py with CMake
+# (static libraries: about 10 minutes on 2 cores), then imported and run on a real scene.
+test-pip: deps
+	@rm -rf $(BUILD)/pip-venv && /usr/bin/python3 -m venv --system-site-packages $(BUILD)/pip-venv
+	@$(BUILD)/pip-venv/bin/pip install -q --no-build-isolation --no-index .
+	@cd $(BUILD) && pip-venv/bin/python -c "import proxseg, sys; \
+	  r = proxseg.segment('$(abspath $(DATA))/mosd/learn/learn0.pcd'); \
+	  assert 'pip-venv' in proxseg.__file__ and len(r.candidates) == 2, (proxseg.__file__, r); \
+	  print('pip install .:', proxseg.__file__, r)"
 
 # The references: C++ (Doxygen, public headers, warnings are errors) into $(BUILD)/docs/cpp,
 # Python (pydoc) into $(BUILD)/docs/python, and docs/parameters.md from the parameter table.

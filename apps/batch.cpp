@@ -127,7 +127,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
                             [&](const proxseg::FrameSource& f) { return f.id == id; });
     if (before > 0)
       say() << "proxseg: note: " << out_dir << " holds " << counted(before, "frame")
-                << " an earlier run finished; doing them again (--resume skips them)\n";
+            << " an earlier run finished; doing them again (--resume skips them)\n";
   }
   std::vector<proxseg::FrameSource> todo;
   for (const auto& f : frames)
@@ -136,9 +136,9 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   proxseg::SummaryLog log(out_dir, name, header, o.resume);  // locked: this shard is ours
   if (o.resume) proxseg::remove_stale_temporaries(out_dir, todo);
   say() << "proxseg: " << counted(frames.size(), "frame")
-            << (shards > 1 ? " in shard " + shard_name + " of " + std::to_string(all.size()) : "")
-            << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
-            << "\n";
+        << (shards > 1 ? " in shard " + shard_name + " of " + std::to_string(all.size()) : "")
+        << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
+        << "\n";
 
   catch_interrupts();
   Progress progress = progress_bar(todo.size());

@@ -37,10 +37,12 @@ void describe_app(CLI::App& app) {
   // Also after the command (`proxseg segment -q ...`): the commands pass what they do not know
   // to the program's options.
   app.fallthrough();
-  app.add_flag_callback("-q,--quiet", [] { set_verbosity(Verbosity::kQuiet); },
-                        "Say only warnings and errors on stderr (no notes, no progress)");
-  app.add_flag_callback("-v,--verbose", [] { set_verbosity(Verbosity::kVerbose); },
-                        "Say also the steps behind a result (recognition's trials)");
+  app.add_flag_callback(
+      "-q,--quiet", [] { set_verbosity(Verbosity::kQuiet); },
+      "Say only warnings and errors on stderr (no notes, no progress)");
+  app.add_flag_callback(
+      "-v,--verbose", [] { set_verbosity(Verbosity::kVerbose); },
+      "Say also the steps behind a result (recognition's trials)");
 }
 
 namespace {

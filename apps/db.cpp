@@ -87,13 +87,12 @@ proxseg::Database open_for_adding(const DbOptions& o) {
 // input_coloured: whether the cloud the view was made from had colours (a view drops colours
 // that are one placeholder colour throughout, docs/database.md).
 void report(const proxseg::ModelView& v, bool input_coloured) {
-  say() << "proxseg: added " << v.object << " view " << v.name << " ("
-            << counted(v.points, "point")
-            << (v.coloured         ? ""
-                : input_coloured ? "; its colours are one placeholder colour throughout, not "
-                                   "the object's: recognised by shape alone"
-                                 : "; no colour: recognised by shape alone")
-            << ") from " << v.source << "\n";
+  say() << "proxseg: added " << v.object << " view " << v.name << " (" << counted(v.points, "point")
+        << (v.coloured       ? ""
+            : input_coloured ? "; its colours are one placeholder colour throughout, not "
+                               "the object's: recognised by shape alone"
+                             : "; no colour: recognised by shape alone")
+        << ") from " << v.source << "\n";
 }
 
 std::string megabytes(std::size_t bytes) {
@@ -232,8 +231,8 @@ int run_remove(const DbOptions& o) {
 int run_rename(const DbOptions& o) {
   proxseg::Database db = proxseg::load_database(o.dir);
   const int n = proxseg::rename_object(db, o.name, o.new_name);
-  std::cout << o.dir << ": renamed " << o.name << " to " << o.new_name << " ("
-            << counted(n, "view") << ")\n";
+  std::cout << o.dir << ": renamed " << o.name << " to " << o.new_name << " (" << counted(n, "view")
+            << ")\n";
   return 0;
 }
 

@@ -132,8 +132,7 @@ int run_eval_batch(const EvalOptions& o) {
     proxseg::write_file_atomic((out / "scenes.csv").string(), proxseg::scenes_csv(scenes));
     proxseg::write_file_atomic((out / "summary.md").string(), markdown);
     proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
-    say() << "proxseg: wrote " << (out / "scenes.csv").string()
-              << ", summary.md, summary.json\n";
+    say() << "proxseg: wrote " << (out / "scenes.csv").string() << ", summary.md, summary.json\n";
   }
   if (o.json)
     std::cout << summary.dump(2) << "\n";

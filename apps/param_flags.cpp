@@ -24,12 +24,11 @@ std::string flag_help(const Parameter& row) {
     std::string help = row.help + (off_flag ? ": this flag switches it off (on by default"
                                             : ": this flag switches it on (off by default");
     if (!row.paper.empty())
-      help += row.paper == value ? ", as the paper" : std::string("; paper: ") +
-                                                          (row.paper == "true" ? "on" : "off");
+      help += row.paper == value ? ", as the paper"
+                                 : std::string("; paper: ") + (row.paper == "true" ? "on" : "off");
     return help + ")";
   }
-  std::string help =
-      row.help + " (default " + value + (row.unit.empty() ? "" : " " + row.unit);
+  std::string help = row.help + " (default " + value + (row.unit.empty() ? "" : " " + row.unit);
   if (!row.paper.empty()) help += row.paper == value ? ", as the paper" : "; paper " + row.paper;
   return help + ")";
 }
@@ -42,8 +41,8 @@ void add_flag_of(CLI::App* cmd, const Parameter& row, ParamFlags::Table table, P
   const std::string value = row.flag.rfind("no-", 0) == 0 ? "false" : "true";
   auto add = [&](const std::string& flag, bool hidden) {
     CLI::Option* opt =
-        is_bool ? cmd->add_flag_callback("--" + flag, [record, value] { record(value); },
-                                         flag_help(row))
+        is_bool ? cmd->add_flag_callback(
+                      "--" + flag, [record, value] { record(value); }, flag_help(row))
                 : cmd->add_option_function<std::string>("--" + flag, record, flag_help(row));
     if (!is_bool) {
       opt->type_name(row.type == ParamType::kChoice ? "{" + row.range_text() + "}"
@@ -72,8 +71,7 @@ std::pair<std::string, std::string> split_set(const std::string& item) {
 
 // The stages whose parameters change the paper's labels (2-4): setting one asks for them.
 bool changes_labels(const Parameter& row) {
-  static const std::set<std::string> stages = {"voxels", "features", "clustering", "kmeans",
-                                               "mrf"};
+  static const std::set<std::string> stages = {"voxels", "features", "clustering", "kmeans", "mrf"};
   return stages.count(row.section) > 0;
 }
 
@@ -130,9 +128,11 @@ void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
     bool only_seg = false, only_rec = false;
     if (rec && key.rfind("segmentation.", 0) == 0) key = key.substr(13), only_seg = true;
     if (rec && key.rfind("recognition.", 0) == 0) key = key.substr(12), only_rec = true;
-    const Parameter* s = only_rec ? nullptr : proxseg::find_parameter(proxseg::segment_parameters(), key);
-    const Parameter* r = !rec || only_seg ? nullptr
-                                          : proxseg::find_parameter(proxseg::recognition_parameters(), key);
+    const Parameter* s =
+        only_rec ? nullptr : proxseg::find_parameter(proxseg::segment_parameters(), key);
+    const Parameter* r = !rec || only_seg
+                             ? nullptr
+                             : proxseg::find_parameter(proxseg::recognition_parameters(), key);
     if (!s && !r) {
       std::string owners;  // a bare name that several sections have
       for (const Parameter& row : proxseg::segment_parameters())

@@ -88,10 +88,12 @@ int run_params(const ParamsOptions& o) {
                  "paper's value where it states one (`--preset paper` uses the segmentation "
                  "ones); lengths are in metres, angles in degrees. docs/method.md says why each "
                  "default is what it is.\n";
-    if (seg) print_markdown("Segmentation (`proxseg segment`, `proxseg.segment`)",
-                            proxseg::segment_parameters());
-    if (rec) print_markdown("Recognition (`proxseg recognize`, `proxseg.recognize`)",
-                            proxseg::recognition_parameters());
+    if (seg)
+      print_markdown("Segmentation (`proxseg segment`, `proxseg.segment`)",
+                     proxseg::segment_parameters());
+    if (rec)
+      print_markdown("Recognition (`proxseg recognize`, `proxseg.recognize`)",
+                     proxseg::recognition_parameters());
     return 0;
   }
   auto print = [](const char* title, const std::vector<Parameter>& table) {

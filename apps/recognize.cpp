@@ -136,8 +136,8 @@ int run_recognize(const RecognizeOptions& o) {
   const proxseg::Database db = proxseg::load_database(o.db);
   if (db.views.empty()) throw InputError(o.db + ": the database has no views");
   const double load_ms = ms_since(start);
-  say() << "proxseg: database " << o.db << ": " << counted(db.objects().size(), "object")
-            << ", " << counted(db.views.size(), "view") << " (" << static_cast<int>(load_ms) << " ms)\n";
+  say() << "proxseg: database " << o.db << ": " << counted(db.objects().size(), "object") << ", "
+        << counted(db.views.size(), "view") << " (" << static_cast<int>(load_ms) << " ms)\n";
   for (const std::string& d : db.damaged)
     std::cerr << "proxseg: warning: " << d << "; the view is left out (see proxseg db check)\n";
   if (!o.batch.empty()) {
@@ -163,7 +163,7 @@ int run_recognize(const RecognizeOptions& o) {
   } else {
     frame = read_input(o);
     say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
-              << frame.height << ")\n";
+          << frame.height << ")\n";
     print_colourless_note(o.input, frame, seg);
     proxseg::check_memory(frame, seg, input_name(o));
     objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);

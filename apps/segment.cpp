@@ -71,7 +71,7 @@ int run_segment(const SegmentCommand& o) {
   make_parent(o.output);  // before the work: an unwritable output fails at once
   const proxseg::Frame frame = read_input(o);
   say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
-            << frame.height << ")\n";
+        << frame.height << ")\n";
   print_colourless_note(o.input, frame, params);
   proxseg::check_memory(frame, params, input_name(o));
   const proxseg::SegmentResult result = proxseg::segment(frame, params);

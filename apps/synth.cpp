@@ -56,7 +56,7 @@ int run_clutter(const SynthOptions& o) {
   if (p.models_dir.empty() && std::filesystem::is_directory(lmo)) p.models_dir = lmo;
   if (p.models_dir.empty())
     say() << "proxseg: note: no LINEMOD meshes at " << lmo
-              << " (give --models DIR); boxes and cylinders only\n";
+          << " (give --models DIR); boxes and cylinders only\n";
   if (o.count == 0) {
     p.seed = o.seed;
     const proxseg::ClutterScene scene = proxseg::clutter_layout_scene(p);
@@ -87,8 +87,8 @@ int run_clutter(const SynthOptions& o) {
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << o.output << ": " << done << " " << o.kind << " scenes (seeds " << o.first_seed << "-"
-            << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << counted(objects, "object") << ", " << s
-            << " s" << (interrupted() ? " (interrupted)" : "") << "\n";
+            << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << counted(objects, "object")
+            << ", " << s << " s" << (interrupted() ? " (interrupted)" : "") << "\n";
   return interrupted() ? kInterruptedExit : 0;
 }
 

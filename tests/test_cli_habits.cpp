@@ -44,9 +44,8 @@ TEST(CliHabits, UsageErrorsHaveThePrefixAndSuggestAFlag) {
   const std::string o = (scratch() / "a").string();
   CliRun r = run("segment " + learn0() + " -o " + o + " --voxelsize 0.01");
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err.rfind("proxseg: error: unknown option --voxelsize (did you mean --voxel-size?)",
-                        0),
-            0u)
+  EXPECT_EQ(
+      r.err.rfind("proxseg: error: unknown option --voxelsize (did you mean --voxel-size?)", 0), 0u)
       << r.err;
   EXPECT_TRUE(has(r.err, "Run `proxseg segment --help`")) << r.err;
   r = run("segmnet " + learn0());
@@ -62,8 +61,9 @@ TEST(CliHabits, UsageErrorsHaveThePrefixAndSuggestAFlag) {
       << r.err;
   r = run("segment " + learn0() + " -o " + o + " --mrf-method swp");
   EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r.err, "--mrf-method: expected \"swap\" or \"expansion\", got \"swp\" (did you "
-                         "mean swap?)"))
+  EXPECT_TRUE(has(r.err,
+                  "--mrf-method: expected \"swap\" or \"expansion\", got \"swp\" (did you "
+                  "mean swap?)"))
       << r.err;
 }
 
@@ -79,8 +79,9 @@ TEST(CliHabits, UnknownConfigKeysAndSetKeysGetSuggestions) {
       << r.err;
   r = run("segment " + learn0() + " -o " + (d / "a").string() + " --set mrf.pairwise=0.1");
   EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r.err, "--set mrf.pairwise=0.1: unknown parameter mrf.pairwise (did you mean "
-                         "mrf.pairwise_weight?)"))
+  EXPECT_TRUE(has(r.err,
+                  "--set mrf.pairwise=0.1: unknown parameter mrf.pairwise (did you mean "
+                  "mrf.pairwise_weight?)"))
       << r.err;
   r = run("segment " + learn0() + " -o " + (d / "a").string() + " --set voxel_size=abc");
   EXPECT_EQ(r.code, 2);
@@ -98,8 +99,8 @@ TEST(CliHabits, SetReachesEveryParameterAndFlagsAskForTheLabelsTheyChange) {
   EXPECT_DOUBLE_EQ(p["features"]["normal_edge_ratio"].get<double>(), 0.02);
   EXPECT_DOUBLE_EQ(p["kmeans"]["tolerance"].get<double>(), 1e-5);
   EXPECT_TRUE(p["paper_labels"].get<bool>());  // k-means was asked about
-  const CliRun recognize = run("recognize --db " + (d / "none").string() + " " + learn0() +
-                               " -o " + (d / "b").string() + " --set min_scor=0.3");
+  const CliRun recognize = run("recognize --db " + (d / "none").string() + " " + learn0() + " -o " +
+                               (d / "b").string() + " --set min_scor=0.3");
   EXPECT_EQ(recognize.code, 2);
   EXPECT_TRUE(has(recognize.err, "did you mean min_score?")) << recognize.err;
 }
@@ -107,7 +108,8 @@ TEST(CliHabits, SetReachesEveryParameterAndFlagsAskForTheLabelsTheyChange) {
 TEST(CliHabits, OneSpellingInTheHelpTheOtherAccepted) {
   const CliRun help = run("segment --help");
   ASSERT_EQ(help.code, 0);
-  for (const std::string shown : {"--no-colour", "--colour-weight", "--colour ", "--colour-pattern"})
+  for (const std::string shown :
+       {"--no-colour", "--colour-weight", "--colour ", "--colour-pattern"})
     EXPECT_TRUE(has(help.out, shown)) << shown;
   for (const std::string hidden : {"--no-color", "--color-weight", "--color ", "--color-pattern"})
     EXPECT_FALSE(has(help.out, hidden)) << hidden;
@@ -128,8 +130,9 @@ TEST(CliHabits, MeshesOfAnImplausibleSizeForTheirUnitAreRefusedWithTheFix) {
   const std::string mesh = kData + "/lmo/models/obj_000001.ply";  // millimetres
   CliRun r = run("db render " + (d / "db").string() + " --name ape " + mesh + " --views 2");
   EXPECT_EQ(r.code, 1);
-  EXPECT_TRUE(has(r.err, "142.1 m across with --units m, too large for an object: its "
-                         "coordinates look like millimetres; use --units mm"))
+  EXPECT_TRUE(has(r.err,
+                  "142.1 m across with --units m, too large for an object: its "
+                  "coordinates look like millimetres; use --units mm"))
       << r.err;
   EXPECT_FALSE(fs::exists(d / "db")) << "refused before the database is made";
   r = run("db render " + (d / "db").string() + " --name ape " + mesh + " --views 2 --units mm");
@@ -142,8 +145,7 @@ TEST(CliHabits, MeshesOfAnImplausibleSizeForTheirUnitAreRefusedWithTheFix) {
 
 TEST(CliHabits, PlaceholderColoursAreNamedAsSuch) {
   const fs::path d = scratch();
-  const CliRun r =
-      run("db add " + (d / "db").string() + " --name milk " + kData + "/pcl/milk.pcd");
+  const CliRun r = run("db add " + (d / "db").string() + " --name milk " + kData + "/pcl/milk.pcd");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(has(r.err, "its colours are one placeholder colour throughout")) << r.err;
   EXPECT_FALSE(has(r.err, "no colour")) << r.err;
@@ -160,16 +162,16 @@ TEST(CliHabits, RecognizeNumbersCandidatesAndObjectsOneWayEverywhere) {
               0);
   const std::string scene = "--colour " + frames + "000004-color.png --depth " + frames +
                             "000004-depth.png --meta " + frames + "000004-meta.json";
-  const CliRun r = run("recognize --db " + (d / "db").string() + " " + scene + " -o " +
-                       (d / "r").string());
+  const CliRun r =
+      run("recognize --db " + (d / "db").string() + " " + scene + " -o " + (d / "r").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_FALSE(has(r.err, "union of")) << "trials are for --verbose: " << r.err;
   const nlohmann::json report = nlohmann::json::parse(slurp(d / "r.json"));
   // Progress lines name candidates by instance id; the table maps each object id to them.
   std::set<std::string> progressed;
   std::smatch m;
-  for (std::string err = r.err;
-       std::regex_search(err, m, std::regex("\\] candidate ([0-9+]+): ")); err = m.suffix())
+  for (std::string err = r.err; std::regex_search(err, m, std::regex("\\] candidate ([0-9+]+): "));
+       err = m.suffix())
     progressed.insert(m[1]);
   EXPECT_FALSE(progressed.empty()) << r.err;
   std::size_t rows = 0;
@@ -186,7 +188,8 @@ TEST(CliHabits, RecognizeNumbersCandidatesAndObjectsOneWayEverywhere) {
     const nlohmann::json& o = report["candidates"][rows];
     EXPECT_EQ(o["id"].get<int>(), id);
     std::string of;
-    for (const auto& i : o["instances"]) of += (of.empty() ? "" : "+") + std::to_string(i.get<int>());
+    for (const auto& i : o["instances"])
+      of += (of.empty() ? "" : "+") + std::to_string(i.get<int>());
     EXPECT_EQ(of, candidates);
     if (o["origin"] == "candidate") {
       EXPECT_TRUE(progressed.count(of)) << of;
@@ -227,8 +230,9 @@ TEST(CliHabits, ABatchRunAgainWithoutResumeSaysSo) {
   EXPECT_TRUE(has(r.err, "proxseg: 1 frame\n")) << r.err;
   r = run(cmd);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(has(r.err, "holds 1 frame an earlier run finished; doing them again "
-                         "(--resume skips them)"))
+  EXPECT_TRUE(has(r.err,
+                  "holds 1 frame an earlier run finished; doing them again "
+                  "(--resume skips them)"))
       << r.err;
   r = run(cmd + " --resume");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -56,9 +56,9 @@ std::vector<std::string> declared_fields(const fs::path& header, const std::stri
     while (std::getline(items, item, ',')) {
       std::smatch n;
       if (std::regex_search(item, n, std::regex("^ *([a-z_0-9]+)")))
-        fields.push_back((type.size() > 6 && type.substr(type.size() - 6) == "Params" ? type + ":"
-                                                                                       : "") +
-                         n[1].str());
+        fields.push_back(
+            (type.size() > 6 && type.substr(type.size() - 6) == "Params" ? type + ":" : "") +
+            n[1].str());
     }
   }
   return fields;
@@ -126,10 +126,11 @@ TEST(ParameterTable, HeaderReaderSeesEveryKindOfDeclaration) {
 TEST(ParameterTable, DefaultsAreTheStructsOwn) {
   // The rows' defaults against the JSON of default-constructed structs (read member by member).
   const nlohmann::json seg = to_json(SegmentParams{}), rec = to_json(RecognitionParams{});
-  for (const auto& [table, j] : {std::pair{&segment_parameters(), &seg},
-                                 std::pair{&recognition_parameters(), &rec}})
+  for (const auto& [table, j] :
+       {std::pair{&segment_parameters(), &seg}, std::pair{&recognition_parameters(), &rec}})
     for (const Parameter& row : *table) {
-      const nlohmann::json& v = row.section.empty() ? j->at(row.name) : j->at(row.section).at(row.name);
+      const nlohmann::json& v =
+          row.section.empty() ? j->at(row.name) : j->at(row.section).at(row.name);
       std::visit([&](const auto& d) { EXPECT_EQ(nlohmann::json(d), v) << row.key(); },
                  row.default_value);
     }
@@ -153,8 +154,8 @@ TEST(ParameterTable, ValidateChecksEveryRowsRange) {
     SegmentParams p;
     const double outside = std::isfinite(row.min) ? row.min - 1 : row.max + 1;
     if (row.type == ParamType::kUnsigned) continue;
-    set_parameter(p, row.key(), row.type == ParamType::kInt ? ParamValue(int(outside))
-                                                            : ParamValue(outside));
+    set_parameter(p, row.key(),
+                  row.type == ParamType::kInt ? ParamValue(int(outside)) : ParamValue(outside));
     EXPECT_THROW(validate(p), InputError) << row.key();
   }
   SegmentParams p;

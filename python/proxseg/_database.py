@@ -89,12 +89,24 @@ class Database:
                  source: Optional[str] = None) -> Dict[str, Any]:
         """Adds one view of ``object`` and writes it to the database file (one transaction).
 
-        points: a Frame, a path, a numpy array (N, 3) metres with ``rgb`` (uint8) beside it, or an
-            Open3D PointCloud; its valid points in the model frame.
-        viewpoint: where the sensor was in that frame (metres; the origin for a captured view),
-            or None for a full model seen from everywhere (normals oriented outwards).
-        source: what the view was made from, kept in the index (default: the path, or "python").
-        Returns the view's entry: object, name, source, points, coloured.
+        Parameters
+        ----------
+        object : str
+            The object's name.
+        points : Frame, str, os.PathLike, array-like or Open3D PointCloud
+            Its valid points in the model frame, metres.
+        rgb : array-like, optional
+            Colours of array points: uint8 0-255 or floats in [0, 1].
+        viewpoint : sequence of 3 floats or None
+            Where the sensor was in that frame (metres; the origin for a captured view), or
+            None for a full model seen from everywhere (normals oriented outwards).
+        source : str, optional
+            What the view was made from, kept in the index (default: the path, or "python").
+
+        Returns
+        -------
+        dict
+            The view's entry: object, name, source, points, coloured.
         """
         frame = as_frame(points, rgb)
         if source is None:
@@ -109,13 +121,31 @@ class Database:
     def render(self, object: str, mesh: PathLike, *, views: int = 8, units: str = "m",
                distance: float = 0.0, depth_noise: float = 0.0, seed: int = 1
                ) -> List[Dict[str, Any]]:
-        """Renders ``views`` partial views of a coloured mesh (PLY with vertex colours, or OBJ
-        with its MTL and texture) with a virtual depth camera on a sphere around it and adds
-        them, as ``proxseg db render`` does [paper 3.4, Fig. 2].
+        """Renders partial views of a coloured mesh with a virtual depth camera on a sphere
+        around it and adds them, as ``proxseg db render`` does [paper 3.4, Fig. 2].
 
-        units: "m" or "mm" (the mesh's coordinates). distance: camera to the mesh's centre,
-        metres (0 = automatic). depth_noise: std at 1 m, metres. seed: of the noise.
-        Returns the entries of the views added (views that see almost nothing are skipped).
+        Parameters
+        ----------
+        object : str
+            The object's name.
+        mesh : str or os.PathLike
+            PLY with vertex colours, or OBJ with its MTL and texture.
+        views : int
+            Cameras on the sphere.
+        units : {"m", "mm"}
+            The mesh's coordinates. A mesh over 5 m across in metres, or under 5 mm in
+            millimetres, is refused (ValueError naming the other unit).
+        distance : float
+            Camera to the mesh's centre, metres (0 = automatic).
+        depth_noise : float
+            Standard deviation at 1 m, metres.
+        seed : int
+            Of the noise.
+
+        Returns
+        -------
+        list of dict
+            The entries of the views added (views that see almost nothing are skipped).
         """
         if units not in ("m", "mm"):
             raise ValueError(f"units: {units!r} (expected 'm' or 'mm')")

@@ -23,19 +23,35 @@ from ._segment import SegmentResult, label_colours, segmentation_result
 class RecognizedObject:
     """One object of a scene (or the one cloud of :func:`recognize_object`).
 
-    id: its value in ``RecognitionResult.object_ids`` (1..n; 0 for recognize_object).
-    name: the object of the best view, or "unknown" (best score under min_score, or its lead over
+    Attributes
+    ----------
+    id : int
+        Its value in ``RecognitionResult.object_ids`` (1..n; 0 for recognize_object).
+    name : str
+        The object of the best view, or "unknown" (best score under min_score, or its lead over
         the runner-up under min_margin when not confident).
-    score, fitness, coverage, rmse: of the best view (0 when none was aligned); rmse in metres.
-    colour: the colour agreement of the best view's explained points (1 without colour).
-    pose: (4, 4) rigid transform, scene (camera) frame <- model frame, metres; None when no view
+    score, fitness, coverage, rmse : float
+        Of the best view (0 when none was aligned); rmse in metres.
+    colour : float
+        The colour agreement of the best view's explained points (1 without colour).
+    pose : numpy.ndarray or None
+        (4, 4) rigid transform, scene (camera) frame <- model frame, metres; None when no view
         was aligned.
-    view: the best view's name in the database. runner_up: (name, score) of the best view of
-        another object, or None.
-    points: frame point indices it holds (flattened row-major when organized), ascending.
-    centroid: (3,) metres. instances: the SegmentResult candidates it holds points of.
-    origin: "candidate", "split" or "merged" (recognition's split and merge passes).
-    report: its entry of the CLI's ``proxseg recognize`` JSON report.
+    view : str or None
+        The best view's name in the database.
+    runner_up : tuple or None
+        (name, score) of the best view of another object.
+    indices : numpy.ndarray
+        Frame point indices it holds (flattened row-major when organized), ascending;
+        ``points`` is the same array (its earlier name).
+    centroid : numpy.ndarray
+        (3,) metres.
+    instances : list of int
+        The SegmentResult candidates it holds points of.
+    origin : str
+        "candidate", "split" or "merged" (recognition's split and merge passes).
+    report : dict
+        Its entry of the CLI's ``proxseg recognize`` JSON report.
     """
 
     id: int
@@ -48,11 +64,16 @@ class RecognizedObject:
     pose: Optional[np.ndarray]
     view: Optional[str]
     runner_up: Optional[tuple]
-    points: np.ndarray
+    indices: np.ndarray
     centroid: np.ndarray
     instances: List[int]
     origin: str
     report: Dict[str, Any] = field(repr=False)
+
+    @property
+    def points(self) -> np.ndarray:
+        """The same as ``indices`` (its earlier name; they are point indices, not points)."""
+        return self.indices
 
     @property
     def known(self) -> bool:
@@ -64,14 +85,22 @@ class RecognizedObject:
 class RecognitionResult:
     """What :func:`recognize` and :func:`recognize_object` return.
 
-    objects: the RecognizedObjects, in id order.
-    names: their names. scores: (n,) their best scores. poses: (n, 4, 4) their poses (NaN where
-        none).
-    object_ids: per point the id of the object holding it (0 = none), the frame's shape
-        (recognize only; None for recognize_object).
-    segmentation: the SegmentResult the scene's candidates came from (recognize only).
-    times_ms: "segment", "recognize" (wall, milliseconds).
-    params: {"segmentation": SegmentParams, "recognition": RecognitionParams} used.
+    Attributes
+    ----------
+    objects : list of RecognizedObject
+        In id order. ``names``, ``scores`` ((n,)) and ``poses`` ((n, 4, 4), NaN where none)
+        gather their fields.
+    object_ids : numpy.ndarray or None
+        Per point the id of the object holding it (0 = none), the frame's shape (recognize
+        only; None for recognize_object).
+    segmentation : SegmentResult or None
+        The segmentation the scene's candidates came from (recognize only).
+    times_ms : dict
+        "segment", "recognize" (wall, milliseconds).
+    params : dict
+        {"segmentation": SegmentParams, "recognition": RecognitionParams} used.
+    frame : Frame
+        The frame recognised (``save`` and ``to_open3d`` use it).
     """
 
     objects: List[RecognizedObject]
@@ -162,7 +191,7 @@ def _object(raw: Dict[str, Any]) -> RecognizedObject:
         rmse=(best or {}).get("rmse", 0.0),
         pose=np.array(r["pose"], dtype=np.float64) if "pose" in r else None,
         view=(best or {}).get("view"),
-        runner_up=(runner["name"], runner["score"]) if runner else None, points=raw["points"],
+        runner_up=(runner["name"], runner["score"]) if runner else None, indices=raw["points"],
         centroid=np.array(r["centroid"]), instances=list(r["instances"]), origin=r["origin"],
         report=r)
 

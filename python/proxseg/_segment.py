@@ -69,19 +69,32 @@ class Candidate:
 class SegmentResult:
     """What :func:`segment` returns.
 
-    labels: segmentation label per point (uint32; 0 = invalid or none), the frame's shape:
-        (H, W) when organized, else (N,). The paper's k-means + MRF labels 1..k when they were
-        computed (``report["paper_labels"]``: the paper preset, unorganized clouds,
+    Attributes
+    ----------
+    labels : numpy.ndarray
+        Segmentation label per point (uint32; 0 = invalid or none), the frame's shape: (H, W)
+        when organized, else (N,). The paper's k-means + MRF labels 1..k when they were computed
+        (``report["paper_labels"]``: the paper preset, unorganized clouds,
         ``paper_labels=True``); otherwise the image-grid surfaces the selection started from.
-    labels_kmeans: the same before the MRF (equal to ``labels`` for surfaces).
-    instances: instance per point (uint32; 0 = none, else a Candidate.id), the frame's shape.
-    candidates: the candidate objects (background planes excluded), in id order.
-    background: the background instances.
-    k: number of the paper's segmentation labels (0 when they were not computed).
-    times_ms: wall time of each stage and "total", milliseconds.
-    params: the parameters used (SegmentParams).
-    report: the CLI's JSON report as a dict (``proxseg segment --json``): input, parameters,
-        version and commit, times, counts, energies.
+    labels_kmeans : numpy.ndarray
+        The same before the MRF (equal to ``labels`` for surfaces).
+    instances : numpy.ndarray
+        Instance per point (uint32; 0 = none, else a Candidate.id), the frame's shape.
+    candidates : list of Candidate
+        The candidate objects (background planes excluded), in id order.
+    background : list of Candidate
+        The background instances.
+    k : int
+        Number of the paper's segmentation labels (0 when they were not computed).
+    times_ms : dict
+        Wall time of each stage and "total", milliseconds.
+    params : SegmentParams
+        The parameters used.
+    report : dict
+        The CLI's JSON report (``proxseg segment --json``): input, parameters, version and
+        commit, times, counts, energies.
+    frame : Frame
+        The frame segmented (``save`` and ``to_open3d`` use it).
     """
 
     labels: np.ndarray

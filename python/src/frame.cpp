@@ -263,11 +263,13 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
       [](const std::string& path, const Frame& frame, const py::dict& fields, bool compressed) {
         std::vector<PointField> extra;
         for (const auto& [name, values] : fields) {
-          const auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::
-              ensure(as_array(values, "fields"));
+          const auto a =
+              py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(
+                  as_array(values, "fields"));
           if (!a || static_cast<std::size_t>(a.size()) != frame.size())
-            throw InputError("fields[" + std::string(py::str(name)) + "]: expected one value per point (" +
-                             std::to_string(frame.size()) + ")");
+            throw InputError("fields[" + std::string(py::str(name)) +
+                             "]: expected one value per point (" + std::to_string(frame.size()) +
+                             ")");
           extra.push_back({py::str(name), {a.data(), a.data() + a.size()}});
         }
         py::gil_scoped_release release;

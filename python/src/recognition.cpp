@@ -120,9 +120,10 @@ void bind_recognition(py::module_& m) {
           ids = recognition_labels(frame, objects);
         }
         py::dict out;
-        out["output"] = recognition_output(
-            objects, snapshot, input, rec, &seg,
-            {{"segment", segment_ms}, {"recognize", recognize_ms}, {"total", segment_ms + recognize_ms}});
+        out["output"] = recognition_output(objects, snapshot, input, rec, &seg,
+                                           {{"segment", segment_ms},
+                                            {"recognize", recognize_ms},
+                                            {"total", segment_ms + recognize_ms}});
         out["objects"] = objects_list(objects, db);
         out["object_ids"] = to_numpy(std::move(ids), point_shape(frame));
         out["segmentation"] = segmentation_dict(frame, seg, std::move(segmentation));

@@ -78,8 +78,8 @@ void bind_segment(py::module_& m) {
       "_parameter_table",
       [](const std::string& which) {
         py::list rows;
-        for (const Parameter& row : which == "segmentation" ? segment_parameters()
-                                                            : recognition_parameters()) {
+        for (const Parameter& row :
+             which == "segmentation" ? segment_parameters() : recognition_parameters()) {
           py::dict d;
           d["key"] = row.key();
           d["section"] = row.section;

@@ -87,8 +87,9 @@ void segment_fields(P& p, F&& f) {
   auto& v = p.voxels;
   f(R("voxels", "voxel_size", "m", "Voxel side [3.1]").above(0).cli("voxel-size").in_paper(),
     v.voxel_size);
-  f(R("voxels", "min_points_per_voxel", "", "Sparser voxels are not clustered (they inherit a "
-                                            "label later)")
+  f(R("voxels", "min_points_per_voxel", "",
+      "Sparser voxels are not clustered (they inherit a "
+      "label later)")
         .at_least(1)
         .cli("min-points"),
     v.min_points_per_voxel);
@@ -115,8 +116,7 @@ void segment_fields(P& p, F&& f) {
     fe.texture_weight);
   f(R("features", "shape_weight", "", "Weight of the shape block").at_least(0).cli("shape-weight"),
     fe.shape_weight);
-  f(R("features", "gabor_wavelength", "px", "Gabor wavelength at every pyramid level")
-        .at_least(2),
+  f(R("features", "gabor_wavelength", "px", "Gabor wavelength at every pyramid level").at_least(2),
     fe.gabor_wavelength);
   f(R("features", "gabor_sigma", "px", "Gabor envelope at every pyramid level").above(0),
     fe.gabor_sigma);
@@ -269,8 +269,7 @@ void selection_fields(S& s, F&& f) {
   f(R(sel, "plane_band_sigmas", "", "Image: the support plane's band in noise deviations")
         .at_least(0),
     s.plane_band_sigmas);
-  f(R(sel, "plane_band_min", "m", "Image: the support plane's band is never narrower")
-        .at_least(0),
+  f(R(sel, "plane_band_min", "m", "Image: the support plane's band is never narrower").at_least(0),
     s.plane_band_min);
   f(R(sel, "plane_flat_sigmas", "", "Image: candidate pixels this flat on the plane go to it")
         .at_least(0),
@@ -279,10 +278,8 @@ void selection_fields(S& s, F&& f) {
     s.merge_links);
   f(R(sel, "merge_window", "px", "Image: most pixels between two linked pixels").in(1, 32),
     s.merge_window);
-  f(R(sel, "merge_min_links", "", "Image: fewest links of a merge").at_least(1),
-    s.merge_min_links);
-  f(R(sel, "bridge_window", "px", "Image: widest band of missing pixels a link crosses")
-        .in(0, 64),
+  f(R(sel, "merge_min_links", "", "Image: fewest links of a merge").at_least(1), s.merge_min_links);
+  f(R(sel, "bridge_window", "px", "Image: widest band of missing pixels a link crosses").in(0, 64),
     s.bridge_window);
   f(R(sel, "bridge_tolerance", "m", "Image: farthest ends of a link across missing pixels")
         .at_least(0),
@@ -300,8 +297,7 @@ void selection_fields(S& s, F&& f) {
     s.occlusion_window);
   f(R(sel, "occlusion_min_rays", "", "Occlusion: fewest rays ending on one surface").at_least(1),
     s.occlusion_min_rays);
-  f(R(sel, "occlusion_min_share", "", "Occlusion: share of the rays ending on one surface")
-        .share(),
+  f(R(sel, "occlusion_min_share", "", "Occlusion: share of the rays ending on one surface").share(),
     s.occlusion_min_share);
   f(R(sel, "occlusion_normal_tolerance_deg", "deg", "Occlusion: one face within this angle")
         .in(0, 180),
@@ -309,17 +305,14 @@ void selection_fields(S& s, F&& f) {
   f(R(sel, "occlusion_surface_tolerance", "m", "Occlusion: one face within this distance")
         .at_least(0),
     s.occlusion_surface_tolerance);
-  f(R(sel, "occlusion_min_colour", "", "Occlusion: fewest colour histogram intersection")
-        .share(),
+  f(R(sel, "occlusion_min_colour", "", "Occlusion: fewest colour histogram intersection").share(),
     s.occlusion_min_colour);
   f(R(sel, "occlusion_min_face_rays", "", "Occlusion: or this many rays continuing one face")
         .at_least(1),
     s.occlusion_min_face_rays);
-  f(R(sel, "occlusion_min_face_colour", "", "Occlusion: with this histogram intersection")
-        .share(),
+  f(R(sel, "occlusion_min_face_colour", "", "Occlusion: with this histogram intersection").share(),
     s.occlusion_min_face_colour);
-  f(R(sel, "join_containers", "", "Image: join the inside and outside of a container")
-        .in_paper(),
+  f(R(sel, "join_containers", "", "Image: join the inside and outside of a container").in_paper(),
     s.join_containers);
   f(R(sel, "container_min_radius", "m", "Containers: smallest rim radius").at_least(0),
     s.container_min_radius);
@@ -379,8 +372,7 @@ void recognition_fields(P& p, F&& f) {
         .above(0)
         .cli("fitness-distance"),
     r.fitness_distance);
-  f(R(reg, "score_distance", "m", "The ranking score's distance (tighter than delta_th)")
-        .above(0),
+  f(R(reg, "score_distance", "m", "The ranking score's distance (tighter than delta_th)").above(0),
     r.score_distance);
   f(R(reg, "coverage_outside_weight", "", "Ranking: weight of view points outside the candidate")
         .share(),
@@ -489,15 +481,23 @@ ParamValue value_of(const T& v) {
 
 std::string type_expected(const Parameter& row) {
   switch (row.type) {
-    case ParamType::kBool: return "true or false";
-    case ParamType::kInt: return "an integer";
-    case ParamType::kUnsigned: return "a non-negative integer";
-    case ParamType::kReal: return "a number";
-    case ParamType::kChoice: break;
+    case ParamType::kBool:
+      return "true or false";
+    case ParamType::kInt:
+      return "an integer";
+    case ParamType::kUnsigned:
+      return "a non-negative integer";
+    case ParamType::kReal:
+      return "a number";
+    case ParamType::kChoice:
+      break;
   }
   std::string s;
   for (std::size_t i = 0; i < row.choices.size(); ++i)
-    s += (i == 0 ? "" : i + 1 == row.choices.size() ? " or " : ", ") + ("\"" + row.choices[i] + "\"");
+    s += (i == 0                        ? ""
+          : i + 1 == row.choices.size() ? " or "
+                                        : ", ") +
+         ("\"" + row.choices[i] + "\"");
   return s;
 }
 
@@ -541,8 +541,8 @@ void assign(const Parameter& row, T& out, const ParamValue& value) {
     const std::string* s = std::get_if<std::string>(&value);
     if (!s) wrong_value(row, value);
     const auto& names = Names<T>::v;
-    const auto* it = std::find_if(std::begin(names), std::end(names),
-                                  [&](const char* n) { return *s == n; });
+    const auto* it =
+        std::find_if(std::begin(names), std::end(names), [&](const char* n) { return *s == n; });
     if (it == std::end(names)) wrong_value(row, value);
     out = static_cast<T>(it - std::begin(names));
   }
@@ -641,11 +641,16 @@ std::string Parameter::key() const {
 
 std::string Parameter::type_name() const {
   switch (type) {
-    case ParamType::kBool: return "bool";
-    case ParamType::kInt: return "int";
-    case ParamType::kUnsigned: return "uint64";
-    case ParamType::kReal: return "real";
-    case ParamType::kChoice: return "choice";
+    case ParamType::kBool:
+      return "bool";
+    case ParamType::kInt:
+      return "int";
+    case ParamType::kUnsigned:
+      return "uint64";
+    case ParamType::kReal:
+      return "real";
+    case ParamType::kChoice:
+      return "choice";
   }
   return "";
 }
@@ -711,7 +716,8 @@ const Parameter& require_parameter(const std::vector<Parameter>& table, const st
   std::string near = closest_name(key, keys);
   if (near.empty())  // the name in the wrong section ("mrf.voxel_size")
     for (const Parameter& row : table)
-      if (const auto dot = key.rfind('.'); dot != std::string::npos && row.name == key.substr(dot + 1))
+      if (const auto dot = key.rfind('.');
+          dot != std::string::npos && row.name == key.substr(dot + 1))
         near = row.key();
   throw InputError("unknown parameter " + key +
                    (near.empty() ? "" : " (did you mean " + near + "?)"));
@@ -781,8 +787,8 @@ ParamValue parse_parameter(const Parameter& row, const std::string& text) {
     case ParamType::kChoice:
       if (std::find(row.choices.begin(), row.choices.end(), text) == row.choices.end()) {
         const std::string near = closest_name(text, row.choices);
-        throw InputError(row.key() + ": expected " + type_expected(row) + ", got \"" + text +
-                         "\"" + (near.empty() ? "" : " (did you mean " + near + "?)"));
+        throw InputError(row.key() + ": expected " + type_expected(row) + ", got \"" + text + "\"" +
+                         (near.empty() ? "" : " (did you mean " + near + "?)"));
       }
       return text;
   }

@@ -55,10 +55,11 @@ void validate(const SegmentParams& p) {
   check_ranges(p, segment_parameters());
   const SelectionParams& sp = p.selection;
   if (sp.container_max_radius < sp.container_min_radius)
-    throw InputError("field selection.container_max_radius: expected >= "
-                     "selection.container_min_radius (" +
-                     format_parameter(sp.container_min_radius) + "), got " +
-                     format_parameter(sp.container_max_radius));
+    throw InputError(
+        "field selection.container_max_radius: expected >= "
+        "selection.container_min_radius (" +
+        format_parameter(sp.container_min_radius) + "), got " +
+        format_parameter(sp.container_max_radius));
 }
 
 void validate(const RecognitionParams& p) {

@@ -6,8 +6,8 @@
 
 #include <cerrno>
 #include <cstring>
-#include <utility>
 #include <proxseg/core/frame.hpp>
+#include <utility>
 
 namespace proxseg::detail {
 namespace {

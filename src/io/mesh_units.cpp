@@ -17,8 +17,10 @@ void check_mesh_units(const Mesh& mesh, const std::string& path, const std::stri
   const std::string other = flag + (flag.back() == '=' ? "" : " ");
   // Objects a depth camera can pick out on a table: about 1 cm to 2 m.
   if (units == "m" && size > 5)
-    throw InputError(given + ", too large for an object: its coordinates look like millimetres; "
-                             "use " + other + "mm");
+    throw InputError(given +
+                     ", too large for an object: its coordinates look like millimetres; "
+                     "use " +
+                     other + "mm");
   if (units == "mm" && size < 0.005)
     throw InputError(given + ", too small for an object: its coordinates look like metres; use " +
                      other + "m");

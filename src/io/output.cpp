@@ -269,12 +269,13 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
     for (int a = 0; a < 3; ++a) axes.push_back(vec(c.box.axes.col(a)));
     (c.background ? background : candidates)
         .push_back(
-        {{"id", c.instance},
-         {"label", c.label},
-         {"points", c.points.size()},
-         {"centroid", vec(c.centroid)},
-         {"box", {{"centre", vec(c.box.centre)}, {"axes", axes}, {"extent", vec(c.box.extent)}}},
-         {"background", c.background}});
+            {{"id", c.instance},
+             {"label", c.label},
+             {"points", c.points.size()},
+             {"centroid", vec(c.centroid)},
+             {"box",
+              {{"centre", vec(c.box.centre)}, {"axes", axes}, {"extent", vec(c.box.extent)}}},
+             {"background", c.background}});
   }
   j["selection"] = {{"clusters", sel.clusters},
                     {"weak_points", sel.weak_points},
@@ -355,8 +356,8 @@ nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result,
                                   const OutputSet& outputs) {
   const nlohmann::json report = segmentation_report(frame, params, result);
-  write_segmentation(prefix, frame, result.point_labels, result.selection.instance, report,
-                     outputs, params.threads);
+  write_segmentation(prefix, frame, result.point_labels, result.selection.instance, report, outputs,
+                     params.threads);
   return report;
 }
 
@@ -365,10 +366,10 @@ void write_segmentation(const std::string& prefix, const Frame& frame,
                         const std::vector<std::uint32_t>& instances, const nlohmann::json& report,
                         const OutputSet& outputs, int threads) {
   if (point_labels.size() != frame.size() || instances.size() != frame.size())
-    throw InputError(prefix + ": labels and instances must have one value per point of the frame (" +
-                     std::to_string(frame.size()) + "), got " +
-                     std::to_string(point_labels.size()) + " and " +
-                     std::to_string(instances.size()));
+    throw InputError(
+        prefix + ": labels and instances must have one value per point of the frame (" +
+        std::to_string(frame.size()) + "), got " + std::to_string(point_labels.size()) + " and " +
+        std::to_string(instances.size()));
   // The picture (three quarters of the work: building and compressing it) is made beside the
   // rest, on a thread that ends with it (parallel_for: no OpenMP team left spin-waiting until the
   // process exits); then every file is written at once, so that a failure never leaves a partial
@@ -757,12 +758,11 @@ nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
   if (outputs.png) {
     cv::Size scene_size;
     const cv::Mat picture = recognition_image(frame, objects, db, scene_size);
-    report["picture"] = {
-        {"file", stem + ".png"},
-        {"width", picture.cols},
-        {"height", picture.rows},
-        {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
-        {"legend", "right of the scene: per object its colour, id, name, score"}};
+    report["picture"] = {{"file", stem + ".png"},
+                         {"width", picture.cols},
+                         {"height", picture.rows},
+                         {"scene", {{"width", scene_size.width}, {"height", scene_size.height}}},
+                         {"legend", "right of the scene: per object its colour, id, name, score"}};
     files.emplace_back(prefix + ".png", detail::encode_png(picture));
   }
   if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
