@@ -2,7 +2,7 @@
 """Recognise the objects of an RGB-D scene against a model database.
 
     python3 examples/python/recognize_scene.py --db DB SCENE.pcd
-    python3 examples/python/recognize_scene.py --db DB --color C.png --depth D.png --meta M.json
+    python3 examples/python/recognize_scene.py --db DB --colour C.png --depth D.png --meta M.json
     python3 examples/python/recognize_scene.py --db DB --models a.xyz b.xyz ... SCENE
 
 With --models, the database DB is first made from full models (plain "x y z" files, metres; the
@@ -30,10 +30,11 @@ def make_database(path, models):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("scene", nargs="?", help="point cloud (.pcd or .ply); or --color/--depth")
+    ap.add_argument("scene", nargs="?", help="point cloud (.pcd or .ply); or --colour/--depth")
     ap.add_argument("--db", required=True, help="model database directory")
     ap.add_argument("--models", nargs="*", default=[], help="full models to build the database")
-    ap.add_argument("--color")
+    ap.add_argument("--colour", "--color", dest="color", metavar="COLOUR",
+                    help="colour image of an RGB-D pair")
     ap.add_argument("--depth")
     ap.add_argument("--meta", help="YCB-Video meta JSON of the RGB-D pair")
     ap.add_argument("-o", "--output", default="object_ids.npy", help="per-point object ids (.npy)")
