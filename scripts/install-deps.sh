@@ -14,7 +14,7 @@ set -euo pipefail
 # when present and installed here so that they are. python3-distributed and python3-dask run
 # batches on a Dask cluster (python3 -m proxseg.dask, docs/batch.md). python3-mypy checks the
 # type stubs and annotations; python3-venv, python3-pip and python3-setuptools `pip install .`.
-packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-graph-dev
+packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev libsqlite3-dev
   dpkg-dev man-db doxygen
   python3-dev pybind11-dev python3-numpy python3-pytest python3-open3d python3-matplotlib
