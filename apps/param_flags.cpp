@@ -140,11 +140,11 @@ void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
       if (!owners.empty())
         throw CLI::ValidationError(what + ": " + key + " is in several sections: give one of " +
                                    owners);
-      std::vector<std::string> keys;
-      for (const Parameter& row : proxseg::segment_parameters()) keys.push_back(row.key());
+      std::vector<Parameter> both = proxseg::segment_parameters();
       if (rec)
-        for (const Parameter& row : proxseg::recognition_parameters()) keys.push_back(row.key());
-      const std::string near = proxseg::closest_name(key, keys);
+        both.insert(both.end(), proxseg::recognition_parameters().begin(),
+                    proxseg::recognition_parameters().end());
+      const std::string near = proxseg::nearest_parameter(both, key);
       throw CLI::ValidationError(what + ": unknown parameter " + key +
                                  (near.empty() ? "" : " (did you mean " + near + "?)") +
                                  "; `proxseg params` lists them");

@@ -705,22 +705,25 @@ const Parameter* find_parameter(const std::vector<Parameter>& table, const std::
 
 const Parameter& require_parameter(const std::vector<Parameter>& table, const std::string& key) {
   if (const Parameter* row = find_parameter(table, key)) return *row;
-  std::vector<std::string> keys;
   std::string owners;
-  for (const Parameter& row : table) {
-    keys.push_back(row.key());
+  for (const Parameter& row : table)
     if (row.name == key) owners += (owners.empty() ? "" : ", ") + row.key();
-  }
   if (!owners.empty())
     throw InputError("parameter " + key + " is in several sections: give one of " + owners);
-  std::string near = closest_name(key, keys);
-  if (near.empty())  // the name in the wrong section ("mrf.voxel_size")
-    for (const Parameter& row : table)
-      if (const auto dot = key.rfind('.');
-          dot != std::string::npos && row.name == key.substr(dot + 1))
-        near = row.key();
+  const std::string near = nearest_parameter(table, key);
   throw InputError("unknown parameter " + key +
                    (near.empty() ? "" : " (did you mean " + near + "?)"));
+}
+
+std::string nearest_parameter(const std::vector<Parameter>& table, const std::string& key) {
+  std::vector<std::string> keys;
+  for (const Parameter& row : table) keys.push_back(row.key());
+  if (std::string near = closest_name(key, keys); !near.empty()) return near;
+  // The name in the wrong section ("mrf.voxel_size"), or at the top level without its section.
+  const std::string bare = key.substr(key.rfind('.') == std::string::npos ? 0 : key.rfind('.') + 1);
+  for (const Parameter& row : table)
+    if (row.name == bare) return row.key();
+  return "";
 }
 
 ParamValue get_parameter(const SegmentParams& params, const std::string& key) {

@@ -56,15 +56,7 @@ json to_json_with(const P& params, const std::vector<Parameter>& table) {
 
 // An unknown key: InputError "config: unknown key KEY (did you mean ...?)".
 [[noreturn]] void unknown_key(const std::vector<Parameter>& table, const std::string& key) {
-  std::vector<std::string> keys;
-  std::string moved;  // the name in another section, or at the top level without its section
-  const std::string bare = key.substr(key.rfind('.') == std::string::npos ? 0 : key.rfind('.') + 1);
-  for (const Parameter& row : table) {
-    keys.push_back(row.key());
-    if (row.name == bare) moved = row.key();
-  }
-  std::string near = closest_name(key, keys);
-  if (near.empty()) near = moved;
+  const std::string near = nearest_parameter(table, key);
   throw InputError("config: unknown key " + key +
                    (near.empty() ? "" : " (did you mean " + near + "?)"));
 }

@@ -52,6 +52,10 @@ const std::vector<Parameter>& recognition_parameters();
 // The row of key ("voxels.voxel_size", or the bare name "voxel_size" when no other section has
 // it); nullptr when there is none.
 const Parameter* find_parameter(const std::vector<Parameter>& table, const std::string& key);
+// The key of the row a mistyped key most likely meant (closest_name over the keys, else the row
+// whose name ends the key: "mrf.voxel_size" -> "voxels.voxel_size"); "" when none is near. Every
+// "did you mean" about a parameter (config keys, --set, require_parameter) comes from here.
+std::string nearest_parameter(const std::vector<Parameter>& table, const std::string& key);
 // find_parameter, or InputError "unknown parameter KEY (did you mean ...?)".
 const Parameter& require_parameter(const std::vector<Parameter>& table, const std::string& key);
 
