@@ -18,11 +18,12 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 
 int bin_of(double t, int bins) {  // t in [0, 1] -> 0..bins-1
   return std::clamp(static_cast<int>(t * bins), 0, bins - 1);

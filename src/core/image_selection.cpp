@@ -22,6 +22,7 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -57,7 +58,7 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
                            const SelectionParams& params) {
   const Frame& f = g.frame;
   const float cos_tol =
-      static_cast<float>(std::cos(params.support_normal_tolerance_deg * M_PI / 180.0));
+      static_cast<float>(std::cos(detail::radians(params.support_normal_tolerance_deg)));
   const float k = static_cast<float>(params.plane_band_sigmas * params.sensor_noise_at_1m);
   const float band_min = static_cast<float>(params.plane_band_min);
   auto inlier = [&](const Plane& pl, int p) {
@@ -158,7 +159,7 @@ std::vector<char> concave_pixels(const ImageGrid& g, const std::vector<Eigen::Ve
                                  const SelectionParams& params) {
   const Frame& f = g.frame;
   const int s = params.concavity_step;
-  const float cos_tol = static_cast<float>(std::cos(params.crease_tolerance_deg * M_PI / 180.0));
+  const float cos_tol = static_cast<float>(std::cos(detail::radians(params.crease_tolerance_deg)));
   std::vector<char> concave(f.size(), 0);
   static constexpr int kDirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   detail::parallel_for(g.h(), g.threads, [&](int v) {
@@ -268,7 +269,7 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
                         const std::vector<std::uint32_t>& point_labels,
                         const SelectionParams& params, int count, std::vector<int>& comp) {
   const Frame& f = g.frame;
-  const float cos_tol = static_cast<float>(std::cos(params.crease_tolerance_deg * M_PI / 180.0));
+  const float cos_tol = static_cast<float>(std::cos(detail::radians(params.crease_tolerance_deg)));
   std::map<std::pair<int, int>, LinkCount> links;
   auto bridge_link = [&](int p, int q) {
     ++links[{std::min(comp[p], comp[q]), std::max(comp[p], comp[q])}].bridges;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <utility>
+#include "util/angles.hpp"
 
 namespace proxseg::detail {
 namespace {
@@ -57,7 +58,7 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
                           const SelectionParams& params, int count, std::vector<int>& comp) {
   const Frame& f = g.frame;
   const float cos_tol =
-      static_cast<float>(std::cos(params.occlusion_normal_tolerance_deg * M_PI / 180.0));
+      static_cast<float>(std::cos(detail::radians(params.occlusion_normal_tolerance_deg)));
   const float tol = static_cast<float>(params.occlusion_surface_tolerance);
   const float noise = static_cast<float>(3 * params.sensor_noise_at_1m);
   static constexpr int kRays[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};  // later pixels

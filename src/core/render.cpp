@@ -8,12 +8,13 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
 
 constexpr double kNear = 0.01;  // metres; triangles with a vertex closer than this are skipped
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 
 // Twice the signed area of (a, b, p). Evaluated with the endpoints in a canonical order so that
 // two triangles sharing an edge get exactly opposite values: no cracks along shared edges.
@@ -226,7 +227,7 @@ Rgb rgb(double r, double g, double b) {
 Eigen::Isometry3d standing(double x, double y, double height, double yaw_deg) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translate(Eigen::Vector3d(x, y, height / 2));
-  T.rotate(Eigen::AngleAxisd(yaw_deg * kPi / 180, Eigen::Vector3d::UnitZ()));
+  T.rotate(Eigen::AngleAxisd(detail::radians(yaw_deg), Eigen::Vector3d::UnitZ()));
   return T;
 }
 
@@ -377,7 +378,7 @@ std::vector<RenderedView> render_views(const Mesh& mesh, const ViewSphereParams&
 
 RenderParams synth_render_params(const SynthParams& params) {
   // Camera 1.05 m from a point just above the table centre, looking down at 40 degrees.
-  const double tilt = 40 * kPi / 180, dist = 1.05;
+  const double tilt = detail::radians(40), dist = 1.05;
   const Eigen::Vector3d target(0.0, 0.0, 0.04);
   const Eigen::Vector3d forward(0, std::cos(tilt), -std::sin(tilt));
   RenderParams rp;

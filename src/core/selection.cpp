@@ -16,6 +16,7 @@
 #include <map>
 #include <numeric>
 #include <unordered_map>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -182,7 +183,7 @@ std::vector<char> support_plane(const VoxelGrid& grid, const VoxelSurface& vs,
   std::vector<char> in_plane(grid.size(), 0);
   if (candidates.empty()) return in_plane;
   const float cos_tol =
-      static_cast<float>(std::cos(params.support_normal_tolerance_deg * M_PI / 180));
+      static_cast<float>(std::cos(detail::radians(params.support_normal_tolerance_deg)));
   const float dist = static_cast<float>(params.background_plane_distance);
   auto inlier = [&](int h, int v) {
     return std::abs(vs.normal[h].dot(vs.centroid[v] - vs.centroid[h])) <= dist &&
@@ -220,7 +221,7 @@ std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::ui
                                 const VoxelSurface& surface, const std::vector<char>& in_plane,
                                 const SelectionParams& params, int& count) {
   const float cos_tolerance =
-      static_cast<float>(std::cos(params.concavity_tolerance_deg * M_PI / 180.0));
+      static_cast<float>(std::cos(detail::radians(params.concavity_tolerance_deg)));
   std::vector<std::uint32_t> voxel_label(grid.size(), 0);
   for (std::size_t v = 0; v < grid.size(); ++v)
     if (!grid.points[v].empty()) voxel_label[v] = labels[grid.points[v][0]];
@@ -262,7 +263,7 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
                   const std::map<int, const Candidate*>& background,
                   const std::map<int, const Candidate*>& pieces, std::vector<int>& component) {
   const float cos_tolerance =
-      static_cast<float>(std::cos(params.concavity_tolerance_deg * M_PI / 180.0));
+      static_cast<float>(std::cos(detail::radians(params.concavity_tolerance_deg)));
   const std::vector<int> voxel_component = voxel_components(grid, component);
   std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // (a, b) -> (edges, concave)
   for (std::size_t u = 0; u < grid.size(); ++u)

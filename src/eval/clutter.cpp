@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "util/angles.hpp"
 #include "util/splitmix.hpp"
 #include "util/value_noise.hpp"
 
@@ -51,7 +52,7 @@ const char* to_string(ClutterPose p) {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 constexpr double kBoxCell = 0.004;         // object tessellation, metres (textures are per vertex)
 constexpr double kTableCell = 0.05;        // table tessellation (textured per pixel)
 constexpr int kMaxCatalogueInstances = 2;  // of one catalogue entry per scene
@@ -863,7 +864,7 @@ class Layout {
       // Flush: two boxes face to face, as in a pile (drawn only when asked for, so that scenes
       // without it stay bit-identical).
       if (P_.p_flush > 0 && is_box(c) && is_box(nb) && r_.p(P_.p_flush)) {
-        yaw = nb.yaw + r_.i(0, 3) * kPi / 2 + r_.u(-1, 1) * kPi / 180;
+        yaw = nb.yaw + r_.i(0, 3) * kPi / 2 + detail::radians(r_.u(-1, 1));
         dir = nb.yaw + r_.i(0, 3) * kPi / 2;
         const Vec2 along(-std::sin(dir), std::cos(dir));
         from += r_.u(-0.5, 0.5) * std::min(c.rest.radius, nb.rest.radius) * along;
@@ -958,7 +959,7 @@ class Layout {
     const Vec2 a = f[e], b = f[(e + 1) % f.size()];
     const double len = (b - a).norm();
     const Vec2 tangent = (b - a) / len, normal(tangent.y(), -tangent.x());  // outward (CCW hull)
-    const double theta = r_.u(P_.min_lean_deg, P_.max_lean_deg) * kPi / 180;
+    const double theta = detail::radians(r_.u(P_.min_lean_deg, P_.max_lean_deg));
     const double contact = nb.z1 * r_.u(0.55, 0.9);  // height of the top edge on the face
     const double H = std::clamp(contact / std::cos(theta), P_.min_size, P_.max_size);
     if (r_.p(0.6)) {
@@ -991,7 +992,7 @@ class Layout {
       if (!fits(c)) continue;
       c.nb = ni;
       c.gap = poly_gap(c.foot, nb.foot);
-      c.tilt_deg = theta * 180 / kPi;
+      c.tilt_deg = detail::degrees(theta);
       return true;
     }
     return false;
@@ -1008,7 +1009,8 @@ bool Layout::run(ClutterScene& out) {
   table_hy_ = table_d / 2;
   const TableFn table_colour = table_texture(r_, out.table);
   if (P_.p_front > 0) view_az_ = r_.u(0, 2 * kPi);  // drawn only then: other scenes unchanged
-  const double light_el = r_.u(P_.min_light_elevation_deg, P_.max_light_elevation_deg) * kPi / 180;
+  const double light_el =
+      detail::radians(r_.u(P_.min_light_elevation_deg, P_.max_light_elevation_deg));
   const double light_az = r_.u(0, 2 * kPi);
   const Vec3 light(std::cos(light_el) * std::cos(light_az), std::cos(light_el) * std::sin(light_az),
                    std::sin(light_el));
@@ -1145,7 +1147,7 @@ bool Layout::run(ClutterScene& out) {
   small.cy = (cam.cy + 0.5) / 4 - 0.5;
   bool found = false;
   for (int k = 0; k < kCameras && !found; ++k) {
-    const double el = r_.u(P_.min_elevation_deg, P_.max_elevation_deg) * kPi / 180;
+    const double el = detail::radians(r_.u(P_.min_elevation_deg, P_.max_elevation_deg));
     const double az = P_.p_front > 0 ? view_az_ + r_.u(-1, 1) * kPi / 12 : r_.u(0, 2 * kPi);
     const Vec3 target(area_c_.x() + r_.u(-1, 1) * P_.target_jitter,
                       area_c_.y() + r_.u(-1, 1) * P_.target_jitter, r_.u(0.02, 0.06));
@@ -1177,8 +1179,8 @@ bool Layout::run(ClutterScene& out) {
     found = *std::min_element(count.begin(), count.end()) * 16 >= 1.2 * P_.min_visible_points;
     out.target = target;
     out.eye = target + dist * back;
-    out.elevation_deg = el * 180 / kPi;
-    out.azimuth_deg = az * 180 / kPi;
+    out.elevation_deg = detail::degrees(el);
+    out.azimuth_deg = detail::degrees(az);
   }
   if (!found) return false;
   out.render = RenderParams{};

@@ -22,6 +22,7 @@
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -440,7 +441,7 @@ Eigen::Matrix3d face_axes(const std::vector<Eigen::Vector3d>& model) {
   open3d::geometry::PointCloud cloud(model);
   cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(20));
   const auto& normals = cloud.normals_;
-  const double parallel = std::cos(5 * M_PI / 180), orthogonal = std::sin(5 * M_PI / 180);
+  const double parallel = std::cos(detail::radians(5)), orthogonal = std::sin(detail::radians(5));
   const std::size_t stride = std::max<std::size_t>(1, normals.size() / 300);
   auto most_common = [&](auto accept) {
     Eigen::Vector3d best = Eigen::Vector3d::Zero();
@@ -511,7 +512,7 @@ std::vector<Eigen::Matrix4d> box_symmetries(const std::vector<Eigen::Vector3d>& 
   auto known = [&](const Eigen::Matrix3d& r) {
     for (const auto& o : out)
       if (Eigen::AngleAxisd(Eigen::Matrix3d(o.topLeftCorner<3, 3>().transpose() * r)).angle() <
-          10 * M_PI / 180)
+          detail::radians(10))
         return true;
     return false;
   };
@@ -525,10 +526,10 @@ std::vector<Eigen::Matrix4d> box_symmetries(const std::vector<Eigen::Vector3d>& 
     std::vector<Eigen::Matrix3d> turns;
     for (int a = 0; a < 3; ++a) {
       const Eigen::Vector3d axis = Eigen::Vector3d::Unit(a);
-      turns.push_back(Eigen::AngleAxisd(M_PI, axis).toRotationMatrix());
+      turns.push_back(Eigen::AngleAxisd(detail::kPi, axis).toRotationMatrix());
       const int b = (a + 1) % 3, c = (a + 2) % 3;
       if (std::abs(box.extent[b] - box.extent[c]) < 2 * tolerance)
-        for (double angle : {M_PI / 2, 3 * M_PI / 2})
+        for (double angle : {detail::kPi / 2, 3 * detail::kPi / 2})
           turns.push_back(Eigen::AngleAxisd(angle, axis).toRotationMatrix());
     }
     for (const Eigen::Matrix3d& t : turns) {
@@ -554,7 +555,7 @@ PoseError pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& tru
   PoseError best{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   const auto one = [&](const Eigen::Matrix4d& t) {
     const Eigen::Matrix3d dr = estimate.topLeftCorner<3, 3>().transpose() * t.topLeftCorner<3, 3>();
-    const double angle = Eigen::AngleAxisd(dr).angle() * 180 / M_PI;
+    const double angle = detail::degrees(Eigen::AngleAxisd(dr).angle());
     const double dt = (estimate.topRightCorner<3, 1>() - t.topRightCorner<3, 1>()).norm();
     // Rank by rotation first: symmetric equivalents differ mostly in rotation.
     if (angle < best.rotation_deg) best = {dt, angle};
@@ -571,7 +572,7 @@ PoseError axial_pose_error(const Eigen::Matrix4d& estimate, const Eigen::Matrix4
   const Eigen::Vector3d ca =
       estimate.topLeftCorner<3, 3>() * centre + estimate.topRightCorner<3, 1>();
   const Eigen::Vector3d cb = truth.topLeftCorner<3, 3>() * centre + truth.topRightCorner<3, 1>();
-  return {(ca - cb).norm(), std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / M_PI};
+  return {(ca - cb).norm(), detail::degrees(std::acos(std::clamp(a.dot(b), -1.0, 1.0)))};
 }
 
 }  // namespace proxseg

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 
+#include "util/angles.hpp"
 #include "util/splitmix.hpp"
 #include "util/value_noise.hpp"
 
@@ -21,7 +22,7 @@ namespace proxseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 constexpr double kCell = 0.004;  // tessellation of the generated objects: the generator's (4 mm)
 
 using Col = Eigen::Vector3d;  // 0..255 per channel

@@ -15,11 +15,12 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 constexpr int kAreaNeighbour = 6;  // spacing of a point: distance to its 6th neighbour
 constexpr int kEdgeNeighbour = 3;  // cap of an edge point's cell: distance to its 3rd neighbour
 constexpr int kCapSides = 16;      // the cap of a cell is a regular 16-gon around its point
@@ -94,7 +95,7 @@ std::vector<Surfel> make_surfels(const std::vector<Vec3>& points, const PointMes
     area[i] = d2.back();
   }
 
-  const double support_tan = std::tan(params.support_angle_deg * kPi / 180);
+  const double support_tan = std::tan(detail::radians(params.support_angle_deg));
   std::vector<Surfel> surfels(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     tree.SearchKNN(points[i], k_max + 1, idx, d2);  // idx[0] is the point itself

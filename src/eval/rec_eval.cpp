@@ -12,13 +12,14 @@
 #include <filesystem>
 #include <map>
 
+#include "util/angles.hpp"
 #include "util/splitmix.hpp"
 
 namespace proxseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using detail::kPi;
 
 // BOP's LINEMOD object ids (models_info.json has no names).
 const std::map<std::string, std::string>& linemod_names() {
@@ -38,7 +39,7 @@ std::uint64_t mix(std::uint64_t seed, std::uint64_t item, std::uint64_t attempt 
 }
 
 double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / kPi;
+  return detail::degrees(std::acos(std::clamp(a.dot(b), -1.0, 1.0)));
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <limits>
 #include <numeric>
 #include <random>
+#include "util/angles.hpp"
 
 namespace proxseg {
 
@@ -446,7 +447,7 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
   // chance of drawing only right pairs is w^2 instead of w^3 for an inlier share w. It must look
   // alike in both clouds (edge length, angle between the normals, angles of the normals with the
   // edge: the point-pair feature) before it is scored.
-  const double cos_tol = std::cos(p.normal_tolerance_deg * M_PI / 180);
+  const double cos_tol = std::cos(detail::radians(p.normal_tolerance_deg));
   const auto frame = [](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                         const Eigen::Vector3d& n0) {
     const Eigen::Vector3d x = (p1 - p0).normalized();
