@@ -1,8 +1,9 @@
 // `segment --batch` and `recognize --batch`: the frames of a dataset, sharded and resumable,
 // logged frame by frame (docs/batch.md); and `proxseg summary`, which merges shard summaries.
-#include <proxseg/core/memory.hpp>
 #include <proxseg/io/batch.hpp>
+#include <proxseg/io/batch_start.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/output.hpp>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "cli.hpp"
@@ -95,56 +97,46 @@ void check_batch_options(const SegmentOptions& o) {
   parse_shard(o.shard);
 }
 
-int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
-              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job, int workers) {
-  const auto [shard, shards] = parse_shard(o.shard);
-  proxseg::RgbdNaming naming = o.naming;
-  naming.intrinsics = o.intrinsics;
-  const auto all = proxseg::discover_frames(o.batch, naming);
+namespace {
+
+// The frames, the summary log and what the user is told before the first frame.
+proxseg::BatchStart start(const SegmentOptions& o, const std::string& out_dir,
+                          nlohmann::json header) {
+  proxseg::BatchPlan plan;
+  plan.sources = o.batch;
+  plan.naming = o.naming;
+  plan.naming.intrinsics = o.intrinsics;
+  std::tie(plan.shard, plan.shards) = parse_shard(o.shard);
+  plan.resume = o.resume;
+  proxseg::BatchStart b;
   try {
-    proxseg::check_output_folder(o.batch, all, out_dir);
-  } catch (const InputError& e) {
+    b = proxseg::start_batch(plan, out_dir, std::move(header));
+  } catch (const proxseg::OutputFolderError& e) {
     throw CLI::ValidationError(e.what());
   }
-  const auto frames = proxseg::shard_frames(all, shard, shards);
-  header["sources"] = o.batch;
-  const std::string shard_name = std::to_string(shard) + "/" + std::to_string(shards);
-  header["shard"] = shards > 1 ? nlohmann::json(shard_name) : nlohmann::json();
-  header["frames"] = frames.size();
-  header["frames_all"] = all.size();
-  header["proxseg"] = proxseg::build_info();
-  header["runner"] = "cli";
-  std::vector<std::string> damaged;  // lines of the earlier logs that could not be read
-  const std::set<std::string> finished =
-      o.resume ? proxseg::finished_frames(out_dir, &damaged) : std::set<std::string>{};
-  for (const std::string& d : damaged) std::cerr << "proxseg: warning: " << d << "\n";
-  if (!o.resume) {
-    // An earlier run's finished frames are done again: say so before they are overwritten.
-    std::vector<std::string> ignored;
-    std::size_t before = 0;
-    for (const std::string& id : proxseg::finished_frames(out_dir, &ignored))
-      before += std::any_of(frames.begin(), frames.end(),
-                            [&](const proxseg::FrameSource& f) { return f.id == id; });
-    if (before > 0)
-      say() << "proxseg: note: " << out_dir << " holds " << counted(before, "frame")
-            << " an earlier run finished; doing them again (--resume skips them)\n";
-  }
-  std::vector<proxseg::FrameSource> todo;
-  for (const auto& f : frames)
-    if (!finished.count(f.id)) todo.push_back(f);
-  const std::string name = proxseg::summary_name(shard, shards);
-  proxseg::SummaryLog log(out_dir, name, header, o.resume);  // locked: this shard is ours
-  if (o.resume) proxseg::remove_stale_temporaries(out_dir, todo);
-  say() << "proxseg: " << counted(frames.size(), "frame")
-        << (shards > 1 ? " in shard " + shard_name + " of " + std::to_string(all.size()) : "")
-        << (o.resume ? ", " + std::to_string(frames.size() - todo.size()) + " done before" : "")
+  for (const std::string& d : b.damaged) std::cerr << "proxseg: warning: " << d << "\n";
+  if (b.redone > 0)
+    say() << "proxseg: note: " << out_dir << " holds " << counted(b.redone, "frame")
+          << " an earlier run finished; doing them again (--resume skips them)\n";
+  const std::string shard_name = std::to_string(plan.shard) + "/" + std::to_string(plan.shards);
+  say() << "proxseg: " << counted(b.frames.size(), "frame")
+        << (plan.shards > 1 ? " in shard " + shard_name + " of " + std::to_string(b.frames_all)
+                            : "")
+        << (o.resume ? ", " + std::to_string(b.frames.size() - b.todo.size()) + " done before" : "")
         << "\n";
+  return b;
+}
 
-  catch_interrupts();
+// Runs the job on the frames to do, `workers` frames side by side; each row is logged as its
+// frame finishes. Returns the frames that failed.
+std::size_t run_frames(proxseg::BatchStart& b,
+                       const std::function<nlohmann::json(const proxseg::FrameSource&)>& job,
+                       int workers) {
+  const std::vector<proxseg::FrameSource>& todo = b.todo;
   Progress progress = progress_bar(todo.size());
   const auto start = std::chrono::steady_clock::now();
   std::size_t failed = 0, done = 0;
-  // Workers take the next frame until none is left; a row is logged as its frame finishes.
+  // Workers take the next frame until none is left.
   std::atomic<std::size_t> next{0};
   std::mutex logging;
   std::exception_ptr error;
@@ -155,7 +147,7 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
         const nlohmann::json row = job(f);
         const std::lock_guard<std::mutex> lock(logging);
         if (error) return;
-        log.append(row);
+        b.log->append(row);
         ++done;
         if (row.contains("error")) {
           ++failed;
@@ -181,16 +173,28 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
     for (auto& t : threads) t.join();
   }
   if (error) std::rethrow_exception(error);
-  log.close(interrupted(), proxseg::peak_resident_mib());
+  return failed;
+}
 
-  const nlohmann::json summary = proxseg::summarize({log.path()}, shards == 1);
-  const std::string summary_json = (fs::path(out_dir) / (name + ".json")).string();
+}  // namespace
+
+int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nlohmann::json header,
+              const std::function<nlohmann::json(const proxseg::FrameSource&)>& job, int workers) {
+  proxseg::BatchStart b = start(o, out_dir, std::move(header));
+  catch_interrupts();
+  const std::size_t failed = run_frames(b, job, workers);
+  b.log->close(interrupted(), proxseg::peak_resident_mib());
+
+  const auto [shard, shards] = parse_shard(o.shard);
+  const nlohmann::json summary = proxseg::summarize({b.log->path()}, shards == 1);
+  const std::string summary_json =
+      (fs::path(out_dir) / (proxseg::summary_name(shard, shards) + ".json")).string();
   proxseg::write_file_atomic(summary_json, summary.dump(2) + "\n");
   if (json)
     std::cout << summary.dump(2) << "\n";
   else
     std::cout << summary_json << ": " << summary["frames_done"].get<std::size_t>() << " of "
-              << counted(frames.size(), "frame") << " done"
+              << counted(b.frames.size(), "frame") << " done"
               << (failed ? ", " + std::to_string(failed) + " failed" : "")
               << (interrupted() ? " (interrupted)" : "") << "\n";
   if (interrupted()) return kInterruptedExit;

@@ -3,6 +3,7 @@
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
 
@@ -132,6 +133,17 @@ int guarded_main(const std::function<int()>& main) {
     say_out_of_memory();
     return 1;
   }
+}
+
+int program_main(int argc, char** argv,
+                 const std::function<std::function<int()>(CLI::App&)>& commands) {
+  return guarded_main([&] {
+    proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
+    CLI::App app;
+    describe_app(app);
+    const std::function<int()> dispatch = commands(app);
+    return run_app(app, argc, argv, dispatch);
+  });
 }
 
 std::string input_name(const SegmentOptions& o) {

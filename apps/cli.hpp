@@ -144,6 +144,11 @@ std::string input_name(const SegmentOptions& o);
 int naming_input(const std::string& input, const char* doing, const std::function<int()>& command);
 // The application both programs start from: its name, description and --version.
 void describe_app(CLI::App& app);
+// The main of both programs (proxseg, proxseg-tools), in guarded_main: the allocator settings for
+// frame-after-frame work, the described app, `commands` adding the program's commands and
+// returning what runs the parsed one, then run_app.
+int program_main(int argc, char** argv,
+                 const std::function<std::function<int()>(CLI::App&)>& commands);
 
 // Exit code of a batch stopped by an interrupt (128 + SIGINT, the shell's convention).
 constexpr int kInterruptedExit = 130;

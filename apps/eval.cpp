@@ -1,6 +1,8 @@
 // `proxseg eval-seg`: a segmentation scored against ground truth (docs/metrics.md).
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/scene_names.hpp>
+#include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
@@ -115,7 +117,7 @@ int run_eval_batch(const EvalOptions& o) {
     progress.step(s.scene);
   }
   if (scenes.empty()) throw InputError(o.batch + ": no scene has a label field");
-  const auto rows = proxseg::summarize(scenes);
+  const auto rows = proxseg::summary_rows(scenes);
   nlohmann::json summary = {{"folder", o.batch},
                             {"method", method},
                             {"scenes", scenes.size()},

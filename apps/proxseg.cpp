@@ -3,7 +3,6 @@
 // This program segments (segment, summary) and loads only proxseg's core and io libraries; the
 // commands of kToolCommands run in proxseg-tools (proxseg_tools.cpp), which it executes in its
 // own place with the same arguments, so that a segmenting process never loads Open3D.
-#include <proxseg/core/memory.hpp>
 
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -45,25 +44,22 @@ int run_tools(char** argv) {
 
 int main(int argc, char** argv) {
   if (argc > 1 && tool_about(argv[1])[0] != '\0') return run_tools(argv);
-  return guarded_main([&] {
-    proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
-    CLI::App app;
-    describe_app(app);
-    SegmentCommand segment;
+  SegmentCommand segment;
+  SummaryOptions summary;
+  ParamsOptions params;
+  return program_main(argc, argv, [&](CLI::App& app) -> std::function<int()> {
     add_segment(app, segment);
     // Listed in the help; never parsed here (run_tools above).
     for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
-    SummaryOptions summary;
     add_summary(app, summary);
-    ParamsOptions params;
     add_params(app, params);
-    return run_app(app, argc, argv, [&] {
+    return [&] {
       if (app.got_subcommand("segment"))
         return naming_input(input_name(segment), "segmenting it",
                             [&] { return run_segment(segment); });
       if (app.got_subcommand("summary")) return run_summary(summary);
       if (app.got_subcommand("params")) return run_params(params);
       return 2;
-    });
+    };
   });
 }

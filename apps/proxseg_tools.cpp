@@ -1,8 +1,6 @@
 // proxseg-tools: the commands of the proxseg CLI that need recognition or evaluation (cli.hpp,
 // kToolCommands), linked with Open3D. `proxseg` runs it for them with its own arguments
 // (proxseg.cpp), so its messages and help read as proxseg's.
-#include <proxseg/core/memory.hpp>
-
 #include <CLI/CLI.hpp>
 
 #include "cli.hpp"
@@ -10,19 +8,16 @@
 using namespace cli;
 
 int main(int argc, char** argv) {
-  return guarded_main([&] {
-    proxseg::keep_freed_memory();  // batch commands reuse each frame's buffers
-    CLI::App app;
-    describe_app(app);
-    DbOptions db;
+  DbOptions db;
+  RecognizeOptions recognize;
+  EvalOptions eval;
+  SynthOptions synth;
+  return program_main(argc, argv, [&](CLI::App& app) -> std::function<int()> {
     add_db(app, db);
-    RecognizeOptions recognize;
     add_recognize(app, recognize);
-    EvalOptions eval;
     add_eval(app, eval);
-    SynthOptions synth;
     add_synth(app, synth);
-    return run_app(app, argc, argv, [&] {
+    return [&] {
       if (app.got_subcommand("synth")) return run_synth(synth);
       if (app.got_subcommand("eval-seg")) return run_eval(eval);
       if (app.got_subcommand("db")) return run_db(db);
@@ -30,6 +25,6 @@ int main(int argc, char** argv) {
         return naming_input(recognize.object.empty() ? input_name(recognize) : recognize.object,
                             "recognising it", [&] { return run_recognize(recognize); });
       return 2;
-    });
+    };
   });
 }

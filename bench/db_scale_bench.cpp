@@ -17,10 +17,10 @@
 //                       [--tools PATH] [--lookalikes N] [--seed S] [--threads T] [--json]
 //        db_scale_bench --open DB   (prints {"views", "ms", "rss_kb"} of opening DB)
 #include <proxseg/core/colour.hpp>
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/database_io.hpp>
 #include <proxseg/recognition/recognition.hpp>

@@ -14,7 +14,7 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
-#include <proxseg/core/memory.hpp>
+#include <proxseg/io/memory.hpp>
 
 #include <cstdint>
 #include <exception>

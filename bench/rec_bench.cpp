@@ -11,10 +11,10 @@
 //                  [--peer-tests N] [--seed S] [--threads T] [--config FILE] [--json]
 #include "bench_util.hpp"
 
-#include <proxseg/core/memory.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/pose_error.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/recognition.hpp>
 

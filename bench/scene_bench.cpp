@@ -10,12 +10,12 @@
 // Usage: scene_bench [--models DIR] -o OUT [--dev-seeds LIST] [--report-seeds LIST]
 //                    [--scenes N [--first-seed S]] [--views N] [--threads T] [--config FILE]
 //                    [--peers all|none] [--json]
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/recognition.hpp>
 

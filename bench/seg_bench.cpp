@@ -12,10 +12,12 @@
 #include "bench_util.hpp"
 #include "peers_pcl.hpp"
 
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/scene_names.hpp>
+#include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/params.hpp>
 
 #include <CLI/CLI.hpp>
@@ -390,7 +392,7 @@ int main(int argc, char** argv) {
                 << file.filename().string() << "\n";
     }
   }
-  const auto rows = proxseg::summarize(scores);
+  const auto rows = proxseg::summary_rows(scores);
   int done = 0;
   for (const auto& set : sets) done += set.done;
 
@@ -520,7 +522,8 @@ int main(int argc, char** argv) {
        << "| method | set | scenes | object F | F>=0.75 | V-measure | WOv | lost in bg | "
           "s/frame |\n|---|---|---|---|---|---|---|---|---|\n";
     std::map<std::string, std::vector<proxseg::SummaryRow>> set_rows;
-    for (const auto& set : sets) set_rows[set.name] = proxseg::summarize(scores_of_set[set.name]);
+    for (const auto& set : sets)
+      set_rows[set.name] = proxseg::summary_rows(scores_of_set[set.name]);
     for (const auto& [method, run] : methods)
       for (const auto& set : sets)
         for (const auto& r : set_rows[set.name])
@@ -543,7 +546,7 @@ int main(int argc, char** argv) {
        << "| set | scenes | proxseg default | PCL LCCP | proxseg / LCCP |\n|---|---|---|---|---|\n";
     std::vector<std::pair<std::string, std::vector<proxseg::SummaryRow>>> per_set;
     for (const auto& set : sets)
-      per_set.emplace_back(set.name, proxseg::summarize(scores_of_set[set.name]));
+      per_set.emplace_back(set.name, proxseg::summary_rows(scores_of_set[set.name]));
     if (sets.size() > 1) per_set.emplace_back("both sets", rows);
     for (const auto& [name, rs] : per_set) {
       const double p = mean_seconds(rs, "proxseg default"), l = mean_seconds(rs, "PCL LCCP");

@@ -14,7 +14,10 @@
 #include "bench_util.hpp"
 
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/cross_validation.hpp>
+#include <proxseg/eval/scene_names.hpp>
+#include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
 
@@ -254,7 +257,7 @@ int main(int argc, char** argv) {
   proxseg::CrossValidation cv;
   try {
     cv = proxseg::cross_validate(f, fold_of);
-  } catch (const std::invalid_argument& e) {
+  } catch (const proxseg::InputError& e) {
     std::cerr << "seg_cv: " << e.what() << " (" << scenes.size()
               << " labelled scenes; use more scenes so that at least two folds have some)\n";
     return 1;

@@ -3,9 +3,9 @@
 // that scene in process and prints its wall time in ms, one line per call. Python asks for one
 // C++ call, makes its own call on the same scene, and so on: the two sides alternate call by call
 // and meet the same machine load.
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 
 #include <chrono>
 #include <cstdio>

@@ -1,10 +1,10 @@
 // A program built against an installed proxseg (find_package or pkg-config; README, Library):
 // it segments one point cloud with the default parameters and writes what `proxseg segment`
 // writes: PREFIX.pcd (per-point label and instance), PREFIX.png and PREFIX.json.
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/output.hpp>
 
 #include <exception>

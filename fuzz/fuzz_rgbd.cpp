@@ -2,7 +2,7 @@
 // a JSON (intrinsics or YCB-Video meta), a colour image, a 16-bit depth image and an 8-bit
 // label image. They go through read_intrinsics / read_ycb_meta + read_rgbd, and through
 // read_ycb_frame (meta, colour, depth, label of one YCB-Video frame).
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/cloud_io.hpp>
 
 #include "fuzz_util.hpp"

@@ -261,8 +261,8 @@ TEST(Batch, ShardsPartitionTheFramesStably) {
   after.resize(before.size());
   EXPECT_EQ(before, after);
   EXPECT_EQ(ids(proxseg::shard_frames(frames, 1, 1)), ids(frames));
-  EXPECT_THROW(proxseg::shard_frames(frames, 0, 3), std::invalid_argument);
-  EXPECT_THROW(proxseg::shard_frames(frames, 4, 3), std::invalid_argument);
+  EXPECT_THROW(proxseg::shard_frames(frames, 0, 3), proxseg::InputError);
+  EXPECT_THROW(proxseg::shard_frames(frames, 4, 3), proxseg::InputError);
 }
 
 TEST(Batch, SummaryLogKeepsWholeLinesLocksAndChecksTheSettings) {

@@ -350,7 +350,7 @@ TEST(Clutter, BadModelsFolderOrParamsAreRejected) {
   ClutterParams q;
   q.min_objects = 9;
   q.max_objects = 8;
-  EXPECT_THROW(clutter_layout_scene(q), std::invalid_argument);
+  EXPECT_THROW(clutter_layout_scene(q), proxseg::InputError);
 }
 
 // The kinds of the development sets: piles put boxes face to face (turned by a multiple of 90

@@ -1,7 +1,10 @@
 // Evaluation on labelled scenes: schemes, categories, summaries, and the regression guard of the
 // default segmentation on real mOSD scenes.
 #include <proxseg/core/pipeline.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/cross_validation.hpp>
+#include <proxseg/eval/scene_names.hpp>
+#include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
 
@@ -87,7 +90,7 @@ TEST(Evaluation, SummaryMeansPerMethodAndCategory) {
   scenes[0].objects.lost_in_background_share = 1;
   scenes[1].objects.truth_objects = 3;
   scenes[1].objects.unassigned_objects = 2;
-  const auto rows = proxseg::summarize(scenes);
+  const auto rows = proxseg::summary_rows(scenes);
   // a: boxes, stacked, all; b: stacked, all.
   ASSERT_EQ(rows.size(), 5u);
   EXPECT_EQ(rows[2].method, "a");
@@ -126,7 +129,7 @@ TEST(Evaluation, SummaryHasAClutterCategory) {
   scenes[0].category = proxseg::scene_category("learn0.pcd");
   scenes[1].category = proxseg::scene_category("clutter-001.pcd");
   scenes[1].objects.object_f = 0.4;
-  const auto rows = proxseg::summarize(scenes);
+  const auto rows = proxseg::summary_rows(scenes);
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].category, "boxes");
   EXPECT_EQ(rows[1].category, "clutter");
@@ -187,8 +190,8 @@ TEST(Evaluation, CrossValidationChoosesWithoutTheHeldOutFold) {
   EXPECT_EQ(cv3.best_in_sample, 0);
   EXPECT_NEAR(cv3.held_out[0], 0.35, 1e-12);
 
-  EXPECT_THROW(proxseg::cross_validate({}, {}), std::invalid_argument);
-  EXPECT_THROW(proxseg::cross_validate({{0.1}, {0.2}}, {"a", "a"}), std::invalid_argument);
+  EXPECT_THROW(proxseg::cross_validate({}, {}), proxseg::InputError);
+  EXPECT_THROW(proxseg::cross_validate({{0.1}, {0.2}}, {"a", "a"}), proxseg::InputError);
   EXPECT_THROW(proxseg::cross_validate({{0.1}, {0.2, 0.3}}, {"a", "b"}), std::invalid_argument);
   EXPECT_THROW(proxseg::cross_validate({{0.1}, {0.2}}, {"a"}), std::invalid_argument);
 }

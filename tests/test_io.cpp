@@ -471,10 +471,10 @@ TEST(IoWrite, PcdRoundTripWithoutColour) {
   EXPECT_EQ(g.label, labels);
   // A field named like the colour would be read back as colours; colours not one per point are
   // a caller's mistake.
-  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgb", labels}}), std::invalid_argument);
-  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgba", labels}}), std::invalid_argument);
+  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgb", labels}}), proxseg::InputError);
+  EXPECT_THROW(proxseg::pcd_bytes(f, {{"rgba", labels}}), proxseg::InputError);
   f.rgb = {{1, 2, 3}};
-  EXPECT_THROW(proxseg::pcd_bytes(f, {}), std::invalid_argument);
+  EXPECT_THROW(proxseg::pcd_bytes(f, {}), proxseg::InputError);
 }
 
 TEST(IoWrite, PcdRejectsWrongFieldLength) {
@@ -485,9 +485,9 @@ TEST(IoWrite, PcdRejectsWrongFieldLength) {
   f.rgb = {{1, 2, 3}, {4, 5, 6}};
   const std::string path = tmp_path("bad_field.pcd");
   fs::remove(path);
-  EXPECT_THROW(proxseg::write_pcd(path, f, {{"label", {1}}}), std::invalid_argument);
-  EXPECT_THROW(proxseg::write_pcd(path, f, {{"rgb", {1, 2}}}), std::invalid_argument);
-  EXPECT_THROW(proxseg::write_pcd(path, f, {{"two words", {1, 2}}}), std::invalid_argument);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"label", {1}}}), proxseg::InputError);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"rgb", {1, 2}}}), proxseg::InputError);
+  EXPECT_THROW(proxseg::write_pcd(path, f, {{"two words", {1, 2}}}), proxseg::InputError);
   EXPECT_FALSE(fs::exists(path));
 }
 

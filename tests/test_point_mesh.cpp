@@ -488,10 +488,10 @@ TEST(PointMesh, RejectsBadInputAndParameters) {
         with([](P& p) { p.normal_neighbours = 2; }), with([](P& p) { p.cell_neighbours = 0; }),
         with([](P& p) { p.max_cell_radius = -1; }), with([](P& p) { p.support_angle_deg = 90; }),
         with([](P& p) { p.cell_growth = 0.9; })})
-    EXPECT_THROW(proxseg::mesh_from_points(points, p), std::invalid_argument);
+    EXPECT_THROW(proxseg::mesh_from_points(points, p), proxseg::InputError);
   // A grid too large for memory is refused up front, not allocated.
   EXPECT_THROW(proxseg::mesh_from_points(points, with([](P& p) { p.voxel = 1e-5; })),
-               std::invalid_argument);
+               proxseg::InputError);
 }
 
 // The quality of the 21 YCB-Video models' meshes, one table row each (on stdout):

@@ -5,7 +5,9 @@
 #include <proxseg/core/database.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/occlusion.hpp>
+#include <proxseg/eval/pose_error.hpp>
+#include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
 #include <proxseg/recognition/model_view.hpp>

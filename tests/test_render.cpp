@@ -281,10 +281,10 @@ TEST(Render, BuildersHaveTheRequestedShape) {
 TEST(Render, RejectsBadMeshes) {
   Mesh m = square(0.1, 1, 1, {1, 1, 1});
   m.colours.pop_back();
-  EXPECT_THROW(render({m}, RenderParams{}), std::invalid_argument);
+  EXPECT_THROW(render({m}, RenderParams{}), proxseg::InputError);
   Mesh t = square(0.1, 1, 1, {1, 1, 1});
   t.triangles.push_back({0, 1, int(t.vertices.size())});
-  EXPECT_THROW(render({t}, RenderParams{}), std::invalid_argument);
+  EXPECT_THROW(render({t}, RenderParams{}), proxseg::InputError);
 }
 
 TEST(Render, TrianglesBehindTheCameraAreSkipped) {

@@ -4,7 +4,8 @@
 #include <gtest/gtest.h>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/clutter.hpp>
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/params.hpp>
 

@@ -1,6 +1,7 @@
 // Selection [paper 3.3]: clusters, weak links, Euclidean split, candidates, background, boxes.
 #include <proxseg/core/render.hpp>
 #include <proxseg/core/selection.hpp>
+#include "core/image_selection_detail.hpp"
 
 #include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"

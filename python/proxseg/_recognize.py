@@ -129,7 +129,7 @@ class RecognitionResult:
         Returns
         -------
         list of str
-            The files written.
+            The paths of the files written, as given by ``prefix``.
 
         Raises
         ------

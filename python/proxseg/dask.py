@@ -178,26 +178,25 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     outputs = _proxseg._canonical_outputs(outputs)
     params = _parameters(command, preset, config, overrides or {})
     sources = [os.fspath(s) for s in sources]
-    frames = discover_frames(sources, color_pattern=color_pattern, depth_pattern=depth_pattern,
-                             meta_pattern=meta_pattern, intrinsics=intrinsics)
-    _proxseg._check_output_folder(sources, frames, out_dir)
     header: Dict[str, Any] = {"command": command, "outputs": outputs, "parameters": params}
     if command == "recognize":
-        assert db is not None  # checked by the caller: recognize needs a database
+        assert db is not None  # checked above: recognize needs a database
         header["database"] = os.fspath(db)
-    header.update({"sources": sources, "shard": None, "frames": len(frames),
-                   "frames_all": len(frames),
-                   "proxseg": _proxseg.build_info(), "runner": "dask"})
-    finished, damaged = _proxseg._finished_frames(out_dir) if resume else (set(), [])
-    for line in damaged:  # lines of the earlier logs that could not be read: skipped
+    # The frames, the output folder's checks, what earlier runs finished and the summary log,
+    # as the CLI's --batch starts (proxseg/io/batch_start.hpp).
+    start = _proxseg._start_batch(sources, color_pattern, depth_pattern, meta_pattern,
+                                  os.fspath(intrinsics) if intrinsics else "", out_dir, header,
+                                  resume)
+    for line in start["damaged"]:  # lines of the earlier logs that could not be read: skipped
         warnings.warn(line)
-    todo = [f for f in frames if f["id"] not in finished]
-    log = _proxseg._SummaryLog(out_dir, _proxseg._summary_name(), header, resume)
-    if resume:
-        _proxseg._remove_stale_temporaries(out_dir, todo)
+    todo, log = start["todo"], start["log"]
     if progress:
-        sys.stderr.write(f"proxseg.dask: {len(frames)} frames"
-                         + (f", {len(frames) - len(todo)} done before" if resume else "") + "\n")
+        if start["redone"]:
+            sys.stderr.write(f"proxseg.dask: note: {out_dir} holds {start['redone']} frames an "
+                             "earlier run finished; doing them again (--resume skips them)\n")
+        sys.stderr.write(f"proxseg.dask: {start['frames']} frames"
+                         + (f", {start['frames'] - len(todo)} done before" if resume else "")
+                         + "\n")
 
     job = {"command": command, "out_dir": out_dir, "outputs": outputs,
            "segmentation": params if command == "segment" else params["segmentation"],

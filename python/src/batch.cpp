@@ -1,8 +1,9 @@
 // Batch work (proxseg/io/batch.hpp) for the Python runners (proxseg.dask): frames as plain dicts
 // (picklable, so that they travel to Dask workers), one frame's job with the GIL released, and the
 // JSON-lines summary the CLI writes too.
-#include <proxseg/core/memory.hpp>
 #include <proxseg/io/batch.hpp>
+#include <proxseg/io/batch_start.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/recognize_frame.hpp>
 
@@ -77,11 +78,31 @@ void bind_batch(py::module_& m) {
       py::arg("sources"), py::arg("color"), py::arg("depth"), py::arg("meta"),
       py::arg("intrinsics"));
   m.def(
-      "_shard_frames",
-      [](const py::iterable& frames, int index, int count) {
-        return to_list(shard_frames(from_list(frames), index, count));
+      "_start_batch",
+      [](const std::vector<std::string>& sources, const std::string& color,
+         const std::string& depth, const std::string& meta, const std::string& intrinsics,
+         const std::string& out_dir, const py::handle& header, bool resume) {
+        BatchPlan plan;
+        plan.sources = sources;
+        plan.naming = RgbdNaming{color, depth, meta, intrinsics};
+        plan.resume = resume;
+        plan.runner = "dask";
+        const nlohmann::json h = python_to_json(header);
+        BatchStart b;
+        {
+          py::gil_scoped_release release;
+          b = start_batch(plan, out_dir, h);
+        }
+        py::dict out;
+        out["frames"] = b.frames.size();
+        out["todo"] = to_list(b.todo);
+        out["damaged"] = b.damaged;
+        out["redone"] = b.redone;
+        out["log"] = py::cast(std::move(b.log));
+        return out;
       },
-      py::arg("frames"), py::arg("index"), py::arg("count"));
+      py::arg("sources"), py::arg("color"), py::arg("depth"), py::arg("meta"),
+      py::arg("intrinsics"), py::arg("out_dir"), py::arg("header"), py::arg("resume"));
   m.def(
       "_segment_frame",
       [](const py::handle& frame, const std::string& out_dir, const std::string& outputs,
@@ -119,27 +140,9 @@ void bind_batch(py::module_& m) {
       py::arg("frame"), py::arg("out_dir"), py::arg("outputs"), py::arg("segmentation"),
       py::arg("recognition"), py::arg("db"), py::arg("db_dir"), py::arg("load_ms"));
   m.def(
-      "_check_output_folder",
-      [](const std::vector<std::string>& sources, const py::iterable& frames,
-         const std::string& out_dir) { check_output_folder(sources, from_list(frames), out_dir); },
-      py::arg("sources"), py::arg("frames"), py::arg("out_dir"));
-  m.def(
       "_canonical_outputs",
       [](const std::string& outputs) { return to_string(parse_outputs(outputs)); },
       py::arg("outputs"));
-  m.def("_summary_name", &summary_name, py::arg("shard_index") = 1, py::arg("shard_count") = 1);
-  m.def(
-      "_finished_frames",
-      [](const std::string& out_dir) {
-        std::vector<std::string> damaged;
-        std::set<std::string> done;
-        {
-          py::gil_scoped_release release;
-          done = finished_frames(out_dir, &damaged);
-        }
-        return py::make_tuple(done, damaged);
-      },
-      py::arg("out_dir"));
   m.def(
       "_remove_stale_temporaries",
       [](const std::string& out_dir, const py::iterable& frames) {

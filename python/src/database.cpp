@@ -36,13 +36,9 @@ ViewInfo view_info(const ModelView& v) {
 }
 
 py::dict view_dict(const ViewInfo& v) {
-  py::dict out;
-  out["object"] = v.object;
-  out["name"] = v.name;
-  out["source"] = v.source;
-  out["points"] = v.points;
-  out["coloured"] = v.coloured;
-  return out;
+  return py::dict(py::arg("object") = v.object, py::arg("name") = v.name,
+                  py::arg("source") = v.source, py::arg("points") = v.points,
+                  py::arg("coloured") = v.coloured);
 }
 
 }  // namespace

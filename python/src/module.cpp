@@ -1,8 +1,8 @@
 // proxseg._proxseg: the extension under the Python package proxseg (python/proxseg/). The
 // package's Python layer turns parameters, Open3D clouds and results into Python's habits; this
 // layer converts numpy arrays, releases the GIL around the computation and maps errors.
-#include <proxseg/core/memory.hpp>
 #include <proxseg/core/version.hpp>
+#include <proxseg/io/memory.hpp>
 #include <proxseg/io/output.hpp>
 
 #include <nlohmann/json.hpp>
@@ -129,7 +129,7 @@ PYBIND11_MODULE(_proxseg, m) {
   });
 
   // A process that segments frame after frame keeps the memory segment() frees for the next
-  // frame, as the CLI does (core/memory.hpp): without it each call page-faults its buffers in
+  // frame, as the CLI does (io/memory.hpp): without it each call page-faults its buffers in
   // again, which made segment() from Python 1.6 times the C++ call's time (docs/results.md,
   // Python). Import is this module's start-up; PROXSEG_KEEP_FREED_MEMORY=0 leaves the
   // allocator as it is.

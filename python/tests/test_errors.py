@@ -12,14 +12,15 @@ from conftest import data
 
 
 def test_missing_and_unreadable_files_raise_oserror(tmp_path):
-    with pytest.raises(OSError, match="nope.pcd: file not found"):
+    # The subclass of OSError that the errno names (FileError's error).
+    with pytest.raises(FileNotFoundError, match="nope.pcd: file not found"):
         proxseg.read_point_cloud(tmp_path / "nope.pcd")
     (tmp_path / "dir.pcd").mkdir()
-    with pytest.raises(OSError, match="dir.pcd: is a directory"):
+    with pytest.raises(IsADirectoryError, match="dir.pcd: is a directory"):
         proxseg.read_point_cloud(tmp_path / "dir.pcd")
-    with pytest.raises(OSError, match="database.sqlite: does not exist"):
+    with pytest.raises(FileNotFoundError, match="database.sqlite: does not exist"):
         proxseg.Database(tmp_path)
-    with pytest.raises(OSError, match="none: does not exist"):
+    with pytest.raises(FileNotFoundError, match="none: does not exist"):
         proxseg.Database(tmp_path / "none")
     (tmp_path / "file").write_text("x")
     with pytest.raises(OSError, match="file: is not a directory"):

@@ -1,3 +1,4 @@
+// Colour conversions (colour.hpp): RGB to HSV for the colour feature [paper 3.1].
 #include <proxseg/core/colour.hpp>
 
 #include <algorithm>

@@ -81,10 +81,11 @@ bool inside_of(const Piece& inner, const Piece& outer, const SelectionParams& pa
 
 }  // namespace
 
-void join_container_pieces(const ImageGrid& g, const Plane& support, const SelectionParams& params,
-                           int count, std::vector<int>& comp) {
-  const Frame& f = g.frame;
-  const Eigen::Vector3f e1 = support.normal.unitOrthogonal(), e2 = support.normal.cross(e1);
+// Each component's footprint on the support plane (axes e1, e2) and heights above it; the
+// large ones with their top, bottom and fitted circle.
+std::vector<Piece> plane_footprints(const Frame& f, const Plane& support, const Eigen::Vector3f& e1,
+                                    const Eigen::Vector3f& e2, const SelectionParams& params,
+                                    int count, const std::vector<int>& comp) {
   std::vector<Piece> pieces(count);
   for (std::size_t p = 0; p < comp.size(); ++p) {
     if (comp[p] < 0) continue;
@@ -98,6 +99,14 @@ void join_container_pieces(const ImageGrid& g, const Plane& support, const Selec
     s.bottom = percentile(s.height, 0.05);
     fit_circle(s, params);
   }
+  return pieces;
+}
+
+void join_container_pieces(const ImageGrid& g, const Plane& support, const SelectionParams& params,
+                           int count, std::vector<int>& comp) {
+  const Frame& f = g.frame;
+  const Eigen::Vector3f e1 = support.normal.unitOrthogonal(), e2 = support.normal.cross(e1);
+  const std::vector<Piece> pieces = plane_footprints(f, support, e1, e2, params, count, comp);
   UnionFind sets(static_cast<std::size_t>(count));
   std::vector<char> container(count, 0);  // a round component with an inside
   bool joined = false;

@@ -1,3 +1,4 @@
+// The model database in memory (database.hpp): its objects and views, looked up by name.
 #include <proxseg/core/database.hpp>
 
 #include <set>

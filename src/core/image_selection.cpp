@@ -8,8 +8,10 @@
 
 #include "container_pieces.hpp"
 #include "image_grid.hpp"
+#include "image_selection_detail.hpp"
 #include "occluded_pieces.hpp"
 #include "selection_detail.hpp"
+#include "util/angles.hpp"
 #include "util/moments.hpp"
 #include "util/stopwatch.hpp"
 #include "util/union_find.hpp"
@@ -22,7 +24,6 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
-#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -43,39 +44,12 @@ Plane fit_plane(const Frame& frame, const std::vector<int>& pixels) {
   return {n.cast<float>(), static_cast<float>(-n.dot(mean))};
 }
 
-// The support plane (table, floor): hypotheses from an even spread of pixels with a normal, each
-// the plane through the pixel along its normal; the one whose inliers cover the most surface
-// (pixels weighted by z^2, their footprint) wins and is refitted to its inliers. A pixel is an
-// inlier within the sensor's noise at its range and with a parallel normal. Returns per pixel
-// whether it lies in the plane; all false when the plane spans less than background_min_area.
-struct SupportPlane {
-  Plane plane;
-  std::vector<char> in_plane;  // per pixel
-  bool found = false;
-};
-
-SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
-                           const SelectionParams& params) {
+// The pixel of the best plane hypothesis: hypotheses from an even spread of the samples, each
+// the plane through the pixel along its normal, scored by the footprint of its inliers (k: the
+// band's sigmas times the noise at 1 m).
+int best_plane_pixel(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
+                     const std::vector<int>& samples, float cos_tol, float k, float band_min) {
   const Frame& f = g.frame;
-  const float cos_tol =
-      static_cast<float>(std::cos(detail::radians(params.support_normal_tolerance_deg)));
-  const float k = static_cast<float>(params.plane_band_sigmas * params.sensor_noise_at_1m);
-  const float band_min = static_cast<float>(params.plane_band_min);
-  auto inlier = [&](const Plane& pl, int p) {
-    const float z = g.z(p);
-    if (std::abs(pl.distance(f.xyz[p])) > std::max(band_min, k * z * z)) return false;
-    return !has_normal(normals[p]) || std::abs(pl.normal.dot(normals[p])) >= cos_tol;
-  };
-  constexpr int kSampleStride = 6;
-  std::vector<int> samples;
-  for (int v = kSampleStride / 2; v < g.h(); v += kSampleStride)
-    for (int u = kSampleStride / 2; u < g.w(); u += kSampleStride) {
-      const int p = v * g.w() + u;
-      if (g.valid(p) && has_normal(normals[p])) samples.push_back(p);
-    }
-  SupportPlane out;
-  out.in_plane.assign(f.size(), 0);
-  if (samples.size() < 3) return out;
   const int hypotheses = std::min<int>(256, static_cast<int>(samples.size()));
   // The samples packed side by side (each hypothesis reads them all), with the inlier test's
   // band and the footprint weight precomputed: the same arithmetic as inlier(), without the
@@ -125,7 +99,43 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
   std::vector<double> support(kept);
   detail::parallel_for(kept, g.threads, [&](int i) { support[i] = support_of(finalists[i], 1); });
   const int best = finalists[std::max_element(support.begin(), support.end()) - support.begin()];
-  const int h = samples[static_cast<std::size_t>(best) * samples.size() / hypotheses];
+  return samples[static_cast<std::size_t>(best) * samples.size() / hypotheses];
+}
+
+// The support plane (table, floor): hypotheses from an even spread of pixels with a normal, each
+// the plane through the pixel along its normal; the one whose inliers cover the most surface
+// (pixels weighted by z^2, their footprint) wins and is refitted to its inliers. A pixel is an
+// inlier within the sensor's noise at its range and with a parallel normal. Returns per pixel
+// whether it lies in the plane; all false when the plane spans less than background_min_area.
+struct SupportPlane {
+  Plane plane;
+  std::vector<char> in_plane;  // per pixel
+  bool found = false;
+};
+
+SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
+                           const SelectionParams& params) {
+  const Frame& f = g.frame;
+  const float cos_tol =
+      static_cast<float>(std::cos(detail::radians(params.support_normal_tolerance_deg)));
+  const float k = static_cast<float>(params.plane_band_sigmas * params.sensor_noise_at_1m);
+  const float band_min = static_cast<float>(params.plane_band_min);
+  auto inlier = [&](const Plane& pl, int p) {
+    const float z = g.z(p);
+    if (std::abs(pl.distance(f.xyz[p])) > std::max(band_min, k * z * z)) return false;
+    return !has_normal(normals[p]) || std::abs(pl.normal.dot(normals[p])) >= cos_tol;
+  };
+  constexpr int kSampleStride = 6;
+  std::vector<int> samples;
+  for (int v = kSampleStride / 2; v < g.h(); v += kSampleStride)
+    for (int u = kSampleStride / 2; u < g.w(); u += kSampleStride) {
+      const int p = v * g.w() + u;
+      if (g.valid(p) && has_normal(normals[p])) samples.push_back(p);
+    }
+  SupportPlane out;
+  out.in_plane.assign(f.size(), 0);
+  if (samples.size() < 3) return out;
+  const int h = best_plane_pixel(g, normals, samples, cos_tol, k, band_min);
   Plane plane{normals[h], -normals[h].dot(f.xyz[h])};
   std::vector<int> inliers;
   for (int round = 0; round < 2; ++round) {  // refit to the inliers, twice
@@ -264,6 +274,42 @@ bool plane_piece(const Frame& f, const SupportPlane& support, const std::vector<
          on_plane(f, support, points, params);
 }
 
+// The merges the links decide [docs/method.md, rule 6]: pieces of the support plane go back to
+// it, components join where enough links agree and few are concave, islands in missing data join
+// the component they have the most rays to.
+void join_linked(const Frame& f, const SupportPlane& support, const SelectionParams& params,
+                 const std::map<std::pair<int, int>, LinkCount>& links,
+                 const std::vector<int>& border_pixels, const std::vector<int>& beside_missing,
+                 int count, std::vector<int>& comp) {
+  detail::UnionFind sets(static_cast<std::size_t>(count));
+  std::vector<std::vector<int>> points(count);
+  for (int p = 0; p < static_cast<int>(comp.size()); ++p)
+    if (comp[p] >= 0) points[comp[p]].push_back(p);
+  std::vector<char> to_plane(count, 0);
+  for (const auto& [pair, e] : links)
+    if (pair.second == kPlane)
+      to_plane[pair.first] = plane_piece(f, support, points[pair.first], e, params);
+  for (const auto& [pair, e] : links)
+    if (pair.second != kPlane && e.links >= params.merge_min_links &&
+        e.concave <= params.merge_max_concave_share * e.links &&
+        e.agree >= params.merge_min_agreement * e.links)
+      sets.unite(pair.first, pair.second);
+  // An island in missing data (most of its border beside missing pixels: the inside of a mug
+  // whose rim the camera lost all round) joins the component it has the most rays to.
+  std::vector<std::pair<int, int>> best_bridge(count, {0, -1});  // (rays, component)
+  for (const auto& [pair, e] : links)
+    if (pair.second != kPlane)
+      for (const auto& [x, y] : {pair, std::pair{pair.second, pair.first}})
+        if (e.bridges > best_bridge[x].first) best_bridge[x] = {e.bridges, y};
+  for (int c = 0; c < count; ++c)
+    if (border_pixels[c] > 0 &&
+        beside_missing[c] >= params.island_missing_share * border_pixels[c] &&
+        best_bridge[c].first >= params.merge_min_links)
+      sets.unite(c, best_bridge[c].second);
+  for (int& c : comp)
+    if (c >= 0) c = to_plane[c] ? kPlane : sets.find(c);
+}
+
 void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
                         const std::vector<char>& crease, const SupportPlane& support,
                         const std::vector<std::uint32_t>& point_labels,
@@ -332,33 +378,7 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
           break;
         }
     }
-  detail::UnionFind sets(static_cast<std::size_t>(count));
-  std::vector<std::vector<int>> points(count);
-  for (int p = 0; p < static_cast<int>(comp.size()); ++p)
-    if (comp[p] >= 0) points[comp[p]].push_back(p);
-  std::vector<char> to_plane(count, 0);
-  for (const auto& [pair, e] : links)
-    if (pair.second == kPlane)
-      to_plane[pair.first] = plane_piece(f, support, points[pair.first], e, params);
-  for (const auto& [pair, e] : links)
-    if (pair.second != kPlane && e.links >= params.merge_min_links &&
-        e.concave <= params.merge_max_concave_share * e.links &&
-        e.agree >= params.merge_min_agreement * e.links)
-      sets.unite(pair.first, pair.second);
-  // An island in missing data (most of its border beside missing pixels: the inside of a mug
-  // whose rim the camera lost all round) joins the component it has the most rays to.
-  std::vector<std::pair<int, int>> best_bridge(count, {0, -1});  // (rays, component)
-  for (const auto& [pair, e] : links)
-    if (pair.second != kPlane)
-      for (const auto& [x, y] : {pair, std::pair{pair.second, pair.first}})
-        if (e.bridges > best_bridge[x].first) best_bridge[x] = {e.bridges, y};
-  for (int c = 0; c < count; ++c)
-    if (border_pixels[c] > 0 &&
-        beside_missing[c] >= params.island_missing_share * border_pixels[c] &&
-        best_bridge[c].first >= params.merge_min_links)
-      sets.unite(c, best_bridge[c].second);
-  for (int& c : comp)
-    if (c >= 0) c = to_plane[c] ? kPlane : sets.find(c);
+  join_linked(f, support, params, links, border_pixels, beside_missing, count, comp);
 }
 
 // Components under min_points join the neighbour (another component or the plane) they share the

@@ -1,6 +1,6 @@
 // MRF refinement [paper 3.2, eq. 1-3]: Potts energy minimised by alpha-beta swap (Boykov, Veksler,
 // Zabih 2001) or alpha-expansion (Kolmogorov, Zabih 2004 construction) on a Boykov-Kolmogorov
-// max-flow (src/maxflow.hpp).
+// max-flow (maxflow.hpp).
 #include <proxseg/core/mrf.hpp>
 
 #include "maxflow.hpp"
@@ -20,7 +20,7 @@ namespace {
 // Smallest value of 1 - d/sum(d) before the logarithm; keeps psi large but finite.
 constexpr double kMinOneMinusRatio = 1e-9;
 
-// A binary s-t cut problem over m inner nodes, solved by MaxFlow (src/maxflow.hpp), whose
+// A binary s-t cut problem over m inner nodes, solved by MaxFlow (maxflow.hpp), whose
 // buffers are reused by every move. Node i on the source side pays cap_sink[i] (its i->t arc is
 // cut), on the sink side cap_source[i]; an edge (i, j) with capacities (c_ij, c_ji) costs c_ij
 // when i is on the source side and j on the sink side, c_ji in the opposite case.

@@ -6,13 +6,13 @@
 
 #include <proxseg/core/colour.hpp>
 
+#include "util/angles.hpp"
 #include "util/union_find.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
-#include "util/angles.hpp"
 
 namespace proxseg::detail {
 namespace {

@@ -1,6 +1,7 @@
 // segment(): the paper's sections 3.1-3.3, top to bottom.
 #include <proxseg/core/pipeline.hpp>
 
+#include "image_selection_detail.hpp"
 #include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"
 #include "util/run_beside.hpp"

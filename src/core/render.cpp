@@ -1,6 +1,7 @@
 // Virtual depth camera: a z-buffer rasteriser of vertex-coloured triangle meshes, the mesh
 // builders and the built-in synthetic tabletop scene.
 #include <proxseg/core/render.hpp>
+#include "util/angles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -46,7 +46,7 @@ void add_patch(Mesh& m, const Eigen::Isometry3d& pose, const ColourFn& colour, i
 }
 
 int cells(double length, double cell) {
-  if (!(cell > 0)) throw std::invalid_argument("mesh builder: cell must be > 0");
+  if (!(cell > 0)) throw InputError("mesh builder: cell must be > 0");
   return std::max(1, static_cast<int>(std::ceil(length / cell - 1e-9)));
 }
 
@@ -102,13 +102,13 @@ Mesh make_cylinder(const Eigen::Isometry3d& pose, double radius, double height,
 
 Mesh make_lathe(const Eigen::Isometry3d& pose, const std::vector<Eigen::Vector2d>& profile,
                 const ColourFn& colour, double cell) {
-  if (profile.size() < 2) throw std::invalid_argument("make_lathe: the profile needs 2 points");
+  if (profile.size() < 2) throw InputError("make_lathe: the profile needs 2 points");
   // The profile resampled into pieces of about `cell`, so that rings are as dense as the
   // other builders' grids.
   std::vector<Eigen::Vector2d> rz = {profile[0]};
   double widest = 0;
   for (std::size_t i = 1; i < profile.size(); ++i) {
-    if (profile[i].x() < 0) throw std::invalid_argument("make_lathe: radius must be >= 0");
+    if (profile[i].x() < 0) throw InputError("make_lathe: radius must be >= 0");
     const int n = cells((profile[i] - profile[i - 1]).norm(), cell);
     for (int k = 1; k <= n; ++k)
       rz.push_back(profile[i - 1] + (profile[i] - profile[i - 1]) * k / n);
@@ -124,10 +124,40 @@ Mesh make_lathe(const Eigen::Isometry3d& pose, const std::vector<Eigen::Vector2d
   return m;
 }
 
+namespace {
+
+// The points the sensor reports for the depth buffer: Kinect-like noise (its standard deviation
+// grows with z^2), millimetre or disparity steps, back-projected through the camera.
+void sensor_points(const std::vector<double>& zbuf, const RenderParams& params, Frame& f) {
+  const Camera& cam = params.camera;
+  const int W = cam.width, H = cam.height;
+  std::mt19937 rng(params.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int v = 0; v < H; ++v)
+    for (int u = 0; u < W; ++u) {
+      const std::size_t idx = static_cast<std::size_t>(v) * W + u;
+      double depth = zbuf[idx];
+      if (!std::isfinite(depth)) continue;
+      if (params.depth_noise > 0) {  // Kinect-like: std grows with z^2
+        depth += params.depth_noise * depth * depth * gauss(rng);
+        if (params.disparity_step <= 0)
+          depth = std::max(kNear, std::round(depth * 1000.0) / 1000.0);
+      }
+      if (params.disparity_step > 0) {  // the sensor's disparity steps
+        const double steps = std::max(1.0, std::round(1.0 / (depth * params.disparity_step)));
+        depth = std::max(kNear, 1.0 / (steps * params.disparity_step));
+      }
+      const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
+      f.xyz[idx] = (ray * depth).cast<float>();
+    }
+}
+
+}  // namespace
+
 Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
   const Camera& cam = params.camera;
   if (cam.width <= 0 || cam.height <= 0 || !(cam.fx > 0) || !(cam.fy > 0))
-    throw std::invalid_argument("render: camera width, height, fx and fy must be > 0");
+    throw InputError("render: camera width, height, fx and fy must be > 0");
   const int W = cam.width, H = cam.height;
   const std::size_t n = static_cast<std::size_t>(W) * H;
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -143,8 +173,7 @@ Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
   std::vector<double> z;
   for (const Mesh& mesh : meshes) {
     const std::size_t nv = mesh.vertices.size();
-    if (mesh.colours.size() != nv)
-      throw std::invalid_argument("render: mesh needs one colour per vertex");
+    if (mesh.colours.size() != nv) throw InputError("render: mesh needs one colour per vertex");
     uv.resize(nv);
     z.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) {
@@ -155,7 +184,7 @@ Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
     for (const Eigen::Vector3i& t : mesh.triangles) {
       for (int k = 0; k < 3; ++k)
         if (t[k] < 0 || static_cast<std::size_t>(t[k]) >= nv)
-          throw std::invalid_argument("render: triangle vertex index out of range");
+          throw InputError("render: triangle vertex index out of range");
       const int i0 = t[0], i1 = t[1], i2 = t[2];
       if (z[i0] <= kNear || z[i1] <= kNear || z[i2] <= kNear) continue;
       const Eigen::Vector2d &a = uv[i0], &b = uv[i1], &c = uv[i2];
@@ -192,25 +221,7 @@ Frame render(const std::vector<Mesh>& meshes, const RenderParams& params) {
     }
   }
 
-  std::mt19937 rng(params.seed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  for (int v = 0; v < H; ++v)
-    for (int u = 0; u < W; ++u) {
-      const std::size_t idx = static_cast<std::size_t>(v) * W + u;
-      double depth = zbuf[idx];
-      if (!std::isfinite(depth)) continue;
-      if (params.depth_noise > 0) {  // Kinect-like: std grows with z^2
-        depth += params.depth_noise * depth * depth * gauss(rng);
-        if (params.disparity_step <= 0)
-          depth = std::max(kNear, std::round(depth * 1000.0) / 1000.0);
-      }
-      if (params.disparity_step > 0) {  // the sensor's disparity steps
-        const double steps = std::max(1.0, std::round(1.0 / (depth * params.disparity_step)));
-        depth = std::max(kNear, 1.0 / (steps * params.disparity_step));
-      }
-      const Eigen::Vector3d ray((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
-      f.xyz[idx] = (ray * depth).cast<float>();
-    }
+  sensor_points(zbuf, params, f);
   return f;
 }
 
@@ -340,8 +351,8 @@ std::vector<Eigen::Vector3d> view_sphere(int n) {
 }
 
 std::vector<RenderedView> render_views(const Mesh& mesh, const ViewSphereParams& params) {
-  if (params.views < 1) throw std::invalid_argument("render_views: views must be >= 1");
-  if (mesh.vertices.empty()) throw std::invalid_argument("render_views: empty mesh");
+  if (params.views < 1) throw InputError("render_views: views must be >= 1");
+  if (mesh.vertices.empty()) throw InputError("render_views: empty mesh");
   Eigen::Vector3d lo = mesh.vertices[0].cast<double>(), hi = lo;
   for (const auto& v : mesh.vertices) {
     lo = lo.cwiseMin(v.cast<double>());

@@ -1,3 +1,4 @@
+// The version and commit the library was built from (version.hpp).
 #include <proxseg/core/version.hpp>
 
 const char* proxseg::version() {

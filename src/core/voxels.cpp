@@ -86,7 +86,7 @@ bool floor_within(double t, int& out) {
 
 std::vector<char> voxelisable(const Frame& frame, double voxel_size, std::size_t& valid_points,
                               std::size_t& voxelised_points) {
-  if (!(voxel_size > 0)) throw std::invalid_argument("voxel_size must be > 0");
+  if (!(voxel_size > 0)) throw InputError("voxel_size must be > 0");
   std::vector<char> out(frame.size(), 0);
   valid_points = voxelised_points = 0;
   const double inv = 1.0 / voxel_size;
@@ -102,8 +102,57 @@ std::vector<char> voxelisable(const Frame& frame, double voxel_size, std::size_t
   return out;
 }
 
+namespace {
+
+void voxel_neighbours(VoxelGrid& grid, const KeyPacker& packer) {
+  // 26-neighbourhood in the sorted keys; symmetric by construction.
+  grid.neighbours.resize(grid.keys.size());
+  int found[26];
+  if (packer.fits) {
+    // Packed keys: cells (x - 1, y', z'), (x, y', z'), (x + 1, y', z') are consecutive in the
+    // order, so one search per (y', z') row finds all three; rows are visited in key order, so
+    // the neighbours come out ascending. The first cell of a row, taken for the voxels in
+    // order, only moves forward: one cursor per row offset walks the keys once.
+    std::vector<std::uint64_t> packed(grid.keys.size());
+    for (std::size_t v = 0; v < grid.keys.size(); ++v) packed[v] = packer.pack(grid.keys[v]);
+    std::size_t cursor[9] = {};
+    for (std::size_t v = 0; v < grid.keys.size(); ++v) {
+      const Eigen::Vector3i& k = grid.keys[v];
+      int count = 0;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const Eigen::Vector3i first(std::max(k.x() - 1, packer.lo.x()), k.y() + dy, k.z() + dz);
+          const Eigen::Vector3i last(std::min(k.x() + 1, packer.hi.x()), k.y() + dy, k.z() + dz);
+          if (!packer.inside(first) || !packer.inside(last)) continue;
+          std::size_t& it = cursor[(dz + 1) * 3 + dy + 1];
+          const std::uint64_t begin = packer.pack(first), end = packer.pack(last);
+          while (it < packed.size() && packed[it] < begin) ++it;
+          for (std::size_t q = it; q < packed.size() && packed[q] <= end; ++q)
+            if (q != v) found[count++] = static_cast<int>(q);
+        }
+      grid.neighbours[v].assign(found, found + count);
+    }
+    return;
+  }
+  for (std::size_t v = 0; v < grid.keys.size(); ++v) {
+    int count = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const Eigen::Vector3i q = grid.keys[v] + Eigen::Vector3i(dx, dy, dz);
+          auto it = std::lower_bound(grid.keys.begin(), grid.keys.end(), q, key_less);
+          if (it != grid.keys.end() && *it == q)
+            found[count++] = static_cast<int>(it - grid.keys.begin());
+        }
+    grid.neighbours[v].assign(found, found + count);  // (dz, dy, dx) order is key order
+  }
+}
+
+}  // namespace
+
 VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
-  if (!(voxel_size > 0)) throw std::invalid_argument("voxel_size must be > 0");
+  if (!(voxel_size > 0)) throw InputError("voxel_size must be > 0");
   VoxelGrid grid;
   grid.voxel_size = voxel_size;
   grid.voxel_of_point.assign(frame.size(), -1);
@@ -151,48 +200,7 @@ VoxelGrid build_voxels(const Frame& frame, double voxel_size) {
     s = e;
   }
 
-  // 26-neighbourhood in the sorted keys; symmetric by construction.
-  grid.neighbours.resize(grid.keys.size());
-  int found[26];
-  if (packer.fits) {
-    // Packed keys: cells (x - 1, y', z'), (x, y', z'), (x + 1, y', z') are consecutive in the
-    // order, so one search per (y', z') row finds all three; rows are visited in key order, so
-    // the neighbours come out ascending. The first cell of a row, taken for the voxels in
-    // order, only moves forward: one cursor per row offset walks the keys once.
-    std::vector<std::uint64_t> packed(grid.keys.size());
-    for (std::size_t v = 0; v < grid.keys.size(); ++v) packed[v] = packer.pack(grid.keys[v]);
-    std::size_t cursor[9] = {};
-    for (std::size_t v = 0; v < grid.keys.size(); ++v) {
-      const Eigen::Vector3i& k = grid.keys[v];
-      int count = 0;
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy) {
-          const Eigen::Vector3i first(std::max(k.x() - 1, packer.lo.x()), k.y() + dy, k.z() + dz);
-          const Eigen::Vector3i last(std::min(k.x() + 1, packer.hi.x()), k.y() + dy, k.z() + dz);
-          if (!packer.inside(first) || !packer.inside(last)) continue;
-          std::size_t& it = cursor[(dz + 1) * 3 + dy + 1];
-          const std::uint64_t begin = packer.pack(first), end = packer.pack(last);
-          while (it < packed.size() && packed[it] < begin) ++it;
-          for (std::size_t q = it; q < packed.size() && packed[q] <= end; ++q)
-            if (q != v) found[count++] = static_cast<int>(q);
-        }
-      grid.neighbours[v].assign(found, found + count);
-    }
-    return grid;
-  }
-  for (std::size_t v = 0; v < grid.keys.size(); ++v) {
-    int count = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Eigen::Vector3i q = grid.keys[v] + Eigen::Vector3i(dx, dy, dz);
-          auto it = std::lower_bound(grid.keys.begin(), grid.keys.end(), q, key_less);
-          if (it != grid.keys.end() && *it == q)
-            found[count++] = static_cast<int>(it - grid.keys.begin());
-        }
-    grid.neighbours[v].assign(found, found + count);  // (dz, dy, dx) order is key order
-  }
+  voxel_neighbours(grid, packer);
   return grid;
 }
 

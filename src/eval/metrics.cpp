@@ -1,9 +1,10 @@
 // Segmentation metrics [paper 4]. Definitions and conventions: docs/metrics.md.
 #include <proxseg/eval/metrics.hpp>
 
+#include "assignment.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -150,63 +151,6 @@ VMeasure v_measure_of(const Contingency& c) {
   return m;
 }
 
-// Minimum-cost assignment of every row to a distinct column, rows <= cols, cost row-major. The
-// Hungarian method with row/column potentials and shortest augmenting paths (Kuhn-Munkres in the
-// O(rows^2 cols) form of Jonker and Volgenant). Working on the rectangle is the same as padding
-// it to a square with zero-cost rows, which take the left-over columns, without paying for them.
-// Returns the column of each row.
-std::vector<int> assign_min_cost(const std::vector<double>& cost, int rows, int cols) {
-  const double inf = std::numeric_limits<double>::infinity();
-  // 1-based rows and columns; column 0 is the virtual start of each augmenting path.
-  std::vector<double> u(rows + 1, 0.0), v(cols + 1, 0.0), min_slack(cols + 1);
-  std::vector<int> row_of_col(cols + 1, 0), prev_col(cols + 1, 0);
-  std::vector<char> used(cols + 1);
-  for (int i = 1; i <= rows; ++i) {
-    row_of_col[0] = i;
-    int j0 = 0;
-    std::fill(min_slack.begin(), min_slack.end(), inf);
-    std::fill(used.begin(), used.end(), 0);
-    do {
-      used[j0] = 1;
-      const int i0 = row_of_col[j0];
-      const double* cost_row = cost.data() + static_cast<std::size_t>(i0 - 1) * cols;
-      double delta = inf;
-      int j1 = 0;
-      for (int j = 1; j <= cols; ++j) {
-        if (used[j]) continue;
-        const double slack = cost_row[j - 1] - u[i0] - v[j];
-        if (slack < min_slack[j]) {
-          min_slack[j] = slack;
-          prev_col[j] = j0;
-        }
-        // Strict: among equal slacks the lowest column wins, a fixed tie-break.
-        if (min_slack[j] < delta) {
-          delta = min_slack[j];
-          j1 = j;
-        }
-      }
-      for (int j = 0; j <= cols; ++j) {
-        if (used[j]) {
-          u[row_of_col[j]] += delta;
-          v[j] -= delta;
-        } else {
-          min_slack[j] -= delta;
-        }
-      }
-      j0 = j1;
-    } while (row_of_col[j0] != 0);
-    do {
-      const int j1 = prev_col[j0];
-      row_of_col[j0] = row_of_col[j1];
-      j0 = j1;
-    } while (j0 != 0);
-  }
-  std::vector<int> col_of_row(rows, -1);
-  for (int j = 1; j <= cols; ++j)
-    if (row_of_col[j]) col_of_row[row_of_col[j] - 1] = j - 1;
-  return col_of_row;
-}
-
 double ratio(std::size_t a, std::size_t b) {
   return b ? static_cast<double>(a) / static_cast<double>(b) : 0.0;
 }
@@ -232,66 +176,61 @@ std::vector<std::uint32_t> mosd_parts(const std::vector<std::uint32_t>& labels) 
   return out;
 }
 
-SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
-                                      const std::vector<std::uint32_t>& predicted,
-                                      const std::vector<std::uint32_t>& background) {
-  const Contingency c = contingency(truth, predicted, "score_segmentation");
+namespace {
+
+// Per predicted label: its majority region (cells come in ascending t, so a strict > leaves
+// ties to the smaller truth label), the largest count on any other region than that one (for
+// the under-segmentation test), and its points on the background.
+struct Majorities {
+  std::vector<int> majority;
+  std::vector<std::size_t> majority_n, runner_up_n, on_background;
+};
+
+Majorities majorities(const Contingency& c, const std::vector<char>& is_object) {
+  const std::size_t np = c.predicted_labels.size();
+  Majorities m;
+  m.majority.assign(np, -1);
+  m.majority_n.assign(np, 0);
+  m.runner_up_n.assign(np, 0);
+  m.on_background.assign(np, 0);
+  for (const Cell& cell : c.cells) {
+    if (cell.n > m.majority_n[cell.p]) {
+      m.runner_up_n[cell.p] = m.majority_n[cell.p];
+      m.majority_n[cell.p] = cell.n;
+      m.majority[cell.p] = cell.t;
+    } else if (cell.n > m.runner_up_n[cell.p]) {
+      m.runner_up_n[cell.p] = cell.n;
+    }
+    if (!is_object[cell.t]) m.on_background[cell.p] += cell.n;
+  }
+  return m;
+}
+
+// Paper section 4: each label is assigned to its majority region.
+void paper_scores(const Contingency& c, const Majorities& m, int first_segment,
+                  SegmentationScores& s) {
   const int nt = static_cast<int>(c.truth_labels.size());
   const int np = static_cast<int>(c.predicted_labels.size());
-  SegmentationScores s;
-  s.points = c.points;
-  s.v = v_measure_of(c);
-  if (c.points == 0) return s;
-
-  std::vector<char> is_object(nt);
-  for (int t = 0; t < nt; ++t)
-    is_object[t] =
-        std::find(background.begin(), background.end(), c.truth_labels[t]) == background.end();
-  // Predicted 0 is "unassigned", not a segment; being the smallest label it can only be id 0.
-  const int first_segment = c.predicted_labels[0] == 0 ? 1 : 0;
-  s.truth_regions = nt;
-  s.truth_objects = static_cast<int>(std::count(is_object.begin(), is_object.end(), 1));
-  s.segments = np - first_segment;
-
-  // Per predicted label: its majority region (cells come in ascending t, so a strict > leaves
-  // ties to the smaller truth label), the largest count on any other region than that one (for
-  // the under-segmentation test), and its points on the background.
-  std::vector<int> majority(np, -1);
-  std::vector<std::size_t> majority_n(np, 0), runner_up_n(np, 0), on_background(np, 0);
-  for (const Cell& cell : c.cells) {
-    if (cell.n > majority_n[cell.p]) {
-      runner_up_n[cell.p] = majority_n[cell.p];
-      majority_n[cell.p] = cell.n;
-      majority[cell.p] = cell.t;
-    } else if (cell.n > runner_up_n[cell.p]) {
-      runner_up_n[cell.p] = cell.n;
-    }
-    if (!is_object[cell.t]) on_background[cell.p] += cell.n;
+  std::vector<std::size_t> hit(nt, 0), claimed(nt, 0);
+  for (int p = first_segment; p < np; ++p) {
+    hit[m.majority[p]] += m.majority_n[p];
+    claimed[m.majority[p]] += c.predicted_size[p];
   }
-
-  // Paper section 4: each label is assigned to its majority region.
-  {
-    std::vector<std::size_t> hit(nt, 0), claimed(nt, 0);
-    for (int p = first_segment; p < np; ++p) {
-      hit[majority[p]] += majority_n[p];
-      claimed[majority[p]] += c.predicted_size[p];
-    }
-    double precision = 0, recall = 0;
-    for (int t = 0; t < nt; ++t) {
-      precision += ratio(hit[t], claimed[t]);
-      recall += ratio(hit[t], c.truth_size[t]);
-    }
-    s.paper_precision = precision / nt;
-    s.paper_recall = recall / nt;
+  double precision = 0, recall = 0;
+  for (int t = 0; t < nt; ++t) {
+    precision += ratio(hit[t], claimed[t]);
+    recall += ratio(hit[t], c.truth_size[t]);
   }
+  s.paper_precision = precision / nt;
+  s.paper_recall = recall / nt;
+}
 
-  // Background segments: more than half of their points on the background (exactly half is not).
-  std::vector<char> background_segment(np, 0);
-  for (int p = first_segment; p < np; ++p)
-    background_segment[p] = 2 * on_background[p] > c.predicted_size[p];
-
-  // Per truth object: best IoU, over- and under-segmentation, lost in the background. The cells of
-  // one t are contiguous.
+// Per truth object: best IoU, over- and under-segmentation, lost in the background. The cells of
+// one t are contiguous.
+// Returns the points of the truth objects.
+std::size_t object_scores(const Contingency& c, const std::vector<char>& is_object,
+                          const Majorities& m, const std::vector<char>& background_segment,
+                          int first_segment, SegmentationScores& s) {
   std::size_t object_points = 0;
   double overlap = 0;
   for (std::size_t begin = 0, end = 0; begin < c.cells.size(); begin = end) {
@@ -320,7 +259,8 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
     if (holders >= 2) ++s.over_segmented;
     if (largest >= 0) {
       // The largest count of that segment on a region other than t.
-      const std::size_t other = majority[largest] == t ? runner_up_n[largest] : majority_n[largest];
+      const std::size_t other =
+          m.majority[largest] == t ? m.runner_up_n[largest] : m.majority_n[largest];
       if (10 * other >= c.predicted_size[largest]) ++s.under_segmented;
       if (background_segment[largest]) ++s.lost_in_background;
     } else {
@@ -330,9 +270,16 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
   s.weighted_overlap = object_points ? overlap / static_cast<double>(object_points) : 0.0;
   s.lost_in_background_share =
       s.truth_objects ? static_cast<double>(s.lost_in_background) / s.truth_objects : 0.0;
+  return object_points;
+}
 
-  // Object overlap P/R/F (UOIS). Segments with more than half of their points on the background
-  // are left out: they are the table, not a (bad) object.
+// Object overlap P/R/F (UOIS). Segments with more than half of their points on the background
+// are left out: they are the table, not a (bad) object.
+void overlap_scores(const Contingency& c, const std::vector<char>& is_object,
+                    const std::vector<char>& background_segment, int first_segment,
+                    std::size_t object_points, SegmentationScores& s) {
+  const int nt = static_cast<int>(c.truth_labels.size());
+  const int np = static_cast<int>(c.predicted_labels.size());
   std::vector<char> kept(np, 0);
   std::size_t kept_points = 0;
   for (int p = first_segment; p < np; ++p) {
@@ -374,7 +321,7 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
         const std::size_t k = static_cast<std::size_t>(i) * cols + j;
         cost[transpose ? static_cast<std::size_t>(j) * rows + i : k] = -f[k];
       }
-    const std::vector<int> match = assign_min_cost(cost, a, b);
+    const std::vector<int> match = detail::assign_min_cost(cost, a, b);
     for (int i = 0; i < a; ++i) {
       const std::size_t k = transpose ? static_cast<std::size_t>(match[i]) * cols + i
                                       : static_cast<std::size_t>(i) * cols + match[i];
@@ -388,6 +335,41 @@ SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
   const double pr = s.object_precision + s.object_recall;
   s.object_f = pr > 0 ? 2 * s.object_precision * s.object_recall / pr : 0.0;
   s.detected_075 = s.truth_objects ? static_cast<double>(detected) / s.truth_objects : 0.0;
+}
+
+}  // namespace
+
+SegmentationScores score_segmentation(const std::vector<std::uint32_t>& truth,
+                                      const std::vector<std::uint32_t>& predicted,
+                                      const std::vector<std::uint32_t>& background) {
+  const Contingency c = contingency(truth, predicted, "score_segmentation");
+  const int nt = static_cast<int>(c.truth_labels.size());
+  const int np = static_cast<int>(c.predicted_labels.size());
+  SegmentationScores s;
+  s.points = c.points;
+  s.v = v_measure_of(c);
+  if (c.points == 0) return s;
+
+  std::vector<char> is_object(nt);
+  for (int t = 0; t < nt; ++t)
+    is_object[t] =
+        std::find(background.begin(), background.end(), c.truth_labels[t]) == background.end();
+  // Predicted 0 is "unassigned", not a segment; being the smallest label it can only be id 0.
+  const int first_segment = c.predicted_labels[0] == 0 ? 1 : 0;
+  s.truth_regions = nt;
+  s.truth_objects = static_cast<int>(std::count(is_object.begin(), is_object.end(), 1));
+  s.segments = np - first_segment;
+
+  const Majorities m = majorities(c, is_object);
+  paper_scores(c, m, first_segment, s);
+  // Background segments: more than half of their points on the background (exactly half is not).
+  std::vector<char> background_segment(np, 0);
+  for (int p = first_segment; p < np; ++p)
+    background_segment[p] = 2 * m.on_background[p] > c.predicted_size[p];
+
+  const std::size_t object_points =
+      object_scores(c, is_object, m, background_segment, first_segment, s);
+  overlap_scores(c, is_object, background_segment, first_segment, object_points, s);
   return s;
 }
 

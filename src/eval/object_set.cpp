@@ -2,9 +2,9 @@
 // the database capture.
 #include <proxseg/core/colour.hpp>
 #include <proxseg/eval/clutter.hpp>
-#include <proxseg/eval/evaluation.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/point_mesh.hpp>
+#include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/model_view.hpp>
 
@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 
+#include "linemod_models.hpp"
 #include "util/angles.hpp"
 #include "util/splitmix.hpp"
 #include "util/value_noise.hpp"
@@ -160,43 +161,30 @@ void add_generated(std::vector<PoolObject>& pool) {
       "", 1);
   // Thin objects, lying: three pens of one shape, a marker.
   const double pen_l = 0.145, marker_l = 0.125;
-  add("pen-blue", ClutterKind::cylinder,
-      lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({30, 60, 170}, pen_l)), false, "pen", 1,
-      true);
-  add("pen-red", ClutterKind::cylinder,
-      lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({190, 30, 30}, pen_l)), false, "pen", 1,
-      true);
-  add("pen-black", ClutterKind::cylinder,
-      lathe(pen_profile(0.0055, pen_l, 0.02), pen_paint({28, 28, 32}, pen_l)), false, "pen", 1,
-      true);
-  add("marker-green", ClutterKind::cylinder,
-      lathe(pen_profile(0.0095, marker_l, 0.015), pen_paint({40, 150, 60}, marker_l)), false, "", 0,
-      true);
+  const auto pen = [&](const std::string& name, const Col& body, double r, double length,
+                       double tip, const std::string& group, int half) {
+    add(name, ClutterKind::cylinder, lathe(pen_profile(r, length, tip), pen_paint(body, length)),
+        false, group, half, true);
+  };
+  pen("pen-blue", {30, 60, 170}, 0.0055, pen_l, 0.02, "pen", 1);
+  pen("pen-red", {190, 30, 30}, 0.0055, pen_l, 0.02, "pen", 1);
+  pen("pen-black", {28, 28, 32}, 0.0055, pen_l, 0.02, "pen", 1);
+  pen("marker-green", {40, 150, 60}, 0.0095, marker_l, 0.015, "", 0);
   // Open vessels: three cups of one shape (one black), a beaker and two bowls.
-  add("cup-white", ClutterKind::mesh,
-      lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
-            vessel_paint({230, 230, 225}, {215, 215, 210}, 0.03, 0.04, 0.09, 0.004)),
-      false, "cup", 0);
-  add("cup-red", ClutterKind::mesh,
-      lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
-            vessel_paint({180, 35, 40}, {225, 220, 215}, 0.03, 0.04, 0.09, 0.004)),
-      false, "cup", 0);
-  add("mug-black", ClutterKind::mesh,
-      lathe(vessel_profile(0.03, 0.04, 0.09, 0.004),
-            vessel_paint({30, 30, 34}, {60, 60, 64}, 0.03, 0.04, 0.09, 0.004)),
-      false, "cup", 0);
-  add("beaker", ClutterKind::mesh,
-      lathe(vessel_profile(0.035, 0.035, 0.11, 0.003),
-            vessel_paint({60, 90, 150}, {200, 205, 215}, 0.035, 0.035, 0.11, 0.003)),
-      false, "", 1);
-  add("bowl-green", ClutterKind::mesh,
-      lathe(vessel_profile(0.035, 0.075, 0.055, 0.004),
-            vessel_paint({50, 140, 80}, {225, 225, 215}, 0.035, 0.075, 0.055, 0.004)),
-      false, "bowl", 1);
-  add("bowl-yellow", ClutterKind::mesh,
-      lathe(vessel_profile(0.035, 0.075, 0.055, 0.004),
-            vessel_paint({225, 190, 50}, {225, 225, 215}, 0.035, 0.075, 0.055, 0.004)),
-      false, "bowl", 1);
+  const auto vessel = [&](const std::string& name, const Col& outside, const Col& inside,
+                          double r_bottom, double r_top, double h, double wall,
+                          const std::string& group, int half) {
+    add(name, ClutterKind::mesh,
+        lathe(vessel_profile(r_bottom, r_top, h, wall),
+              vessel_paint(outside, inside, r_bottom, r_top, h, wall)),
+        false, group, half);
+  };
+  vessel("cup-white", {230, 230, 225}, {215, 215, 210}, 0.03, 0.04, 0.09, 0.004, "cup", 0);
+  vessel("cup-red", {180, 35, 40}, {225, 220, 215}, 0.03, 0.04, 0.09, 0.004, "cup", 0);
+  vessel("mug-black", {30, 30, 34}, {60, 60, 64}, 0.03, 0.04, 0.09, 0.004, "cup", 0);
+  vessel("beaker", {60, 90, 150}, {200, 205, 215}, 0.035, 0.035, 0.11, 0.003, "", 1);
+  vessel("bowl-green", {50, 140, 80}, {225, 225, 215}, 0.035, 0.075, 0.055, 0.004, "bowl", 1);
+  vessel("bowl-yellow", {225, 190, 50}, {225, 225, 215}, 0.035, 0.075, 0.055, 0.004, "bowl", 1);
   // Boxes: one shape in two colours; one colour in two shapes; a black one; a flat one.
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const Vec3 tall(0.07, 0.07, 0.15), slim(0.09, 0.05, 0.15), flat(0.12, 0.08, 0.035);
@@ -222,12 +210,8 @@ void add_generated(std::vector<PoolObject>& pool) {
 // ---- LINEMOD
 
 void add_linemod(std::vector<PoolObject>& pool, const std::string& dir) {
-  namespace fs = std::filesystem;
   const auto mesh = [&](const char* id) {
-    const fs::path path = fs::path(dir) / (std::string(id) + ".ply");
-    if (!fs::is_regular_file(path))
-      throw InputError(path.string() + ": missing (the object pool needs the LINEMOD mesh)");
-    return read_mesh(path.string(), 0.001);
+    return detail::linemod_mesh(dir, id, "the object pool");
   };
   const auto add = [&](const std::string& name, Mesh m, const std::string& group, int half) {
     pool.push_back(

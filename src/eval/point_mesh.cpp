@@ -1,6 +1,7 @@
 // Meshes from bare surface samples: restricted-Voronoi surfels, a flood fill of the outside on a
 // voxel grid, surface nets (point_mesh.hpp says why this and not Poisson or ball pivoting).
 #include <proxseg/eval/point_mesh.hpp>
+#include "util/angles.hpp"
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
@@ -15,7 +16,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-#include "util/angles.hpp"
 
 namespace proxseg {
 namespace {
@@ -77,6 +77,30 @@ struct Surfel {
   double radius = 0;  // farthest cell vertex from p
 };
 
+// Area-weighted plane fit (see PointMeshParams::normal_neighbours) of the first kn points of
+// idx: s's normal n and tangent axes u, w. Returns the surface variation (the smallest
+// eigenvalue over their sum).
+double fit_plane(const std::vector<Vec3>& points, const std::vector<double>& area,
+                 const std::vector<int>& idx, int kn, Surfel& s) {
+  Vec3 mean = Vec3::Zero();
+  double weight = 0;
+  for (int k = 0; k < kn; ++k) {
+    mean += area[idx[k]] * points[idx[k]];
+    weight += area[idx[k]];
+  }
+  mean /= weight;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < kn; ++k) {
+    const Vec3 d = points[idx[k]] - mean;
+    cov += area[idx[k]] * d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  s.n = eig.eigenvectors().col(0);
+  s.u = eig.eigenvectors().col(2);
+  s.w = s.n.cross(s.u);
+  return eig.eigenvalues()(0) / std::max(eig.eigenvalues().sum(), 1e-300);
+}
+
 // The surfels of all points. The cell of p is the set of points x of its tangent plane that
 // are nearer to p than to any neighbour q (|x - p| <= |x - q|, with q in 3D: neighbours off
 // the plane cut it too, which keeps cells out of concavities), within its cap, cut to the hull
@@ -102,27 +126,10 @@ std::vector<Surfel> make_surfels(const std::vector<Vec3>& points, const PointMes
     const auto neighbours = static_cast<int>(idx.size());
     const auto spacing = [&](int k) { return std::sqrt(d2[std::min(k, neighbours - 1)]); };
 
-    // Area-weighted plane fit (see PointMeshParams::normal_neighbours).
-    const int kn = std::min(params.normal_neighbours + 1, neighbours);
-    Vec3 mean = Vec3::Zero();
-    double weight = 0;
-    for (int k = 0; k < kn; ++k) {
-      mean += area[idx[k]] * points[idx[k]];
-      weight += area[idx[k]];
-    }
-    mean /= weight;
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (int k = 0; k < kn; ++k) {
-      const Vec3 d = points[idx[k]] - mean;
-      cov += area[idx[k]] * d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
     Surfel& s = surfels[i];
     s.p = points[i];
-    s.n = eig.eigenvectors().col(0);
-    s.u = eig.eigenvectors().col(2);
-    s.w = s.n.cross(s.u);
-    const double variation = eig.eigenvalues()(0) / std::max(eig.eigenvalues().sum(), 1e-300);
+    const double variation =
+        fit_plane(points, area, idx, std::min(params.normal_neighbours + 1, neighbours), s);
 
     double cap = params.max_cell_radius;
     if (variation > params.edge_variation) cap = std::min(cap, spacing(kEdgeNeighbour));
@@ -323,9 +330,7 @@ void move_inwards(Mesh& mesh, double distance) {
 }
 
 void validate(const std::vector<Vec3>& points, const PointMeshParams& p) {
-  const auto bad = [](const std::string& what) {
-    throw std::invalid_argument("mesh_from_points: " + what);
-  };
+  const auto bad = [](const std::string& what) { throw InputError("mesh_from_points: " + what); };
   if (!(p.voxel > 0) || !std::isfinite(p.voxel)) bad("voxel must be > 0");
   if (!(p.half_thickness >= 0.5) || !std::isfinite(p.half_thickness))
     bad("half_thickness must be >= 0.5 voxels (thinner layers leak)");
@@ -369,9 +374,9 @@ Mesh mesh_from_points(const std::vector<Eigen::Vector3d>& points, const PointMes
   Vec3 nodes;
   for (int k = 0; k < 3; ++k) nodes[k] = std::ceil((hi[k] - lo[k] + 2 * margin) / params.voxel) + 1;
   if (nodes.prod() > kMaxNodes)
-    throw std::invalid_argument("mesh_from_points: the points span " +
-                                std::to_string(static_cast<long long>(nodes.prod())) +
-                                " grid nodes (at most 1e8; raise voxel)");
+    throw InputError("mesh_from_points: the points span " +
+                     std::to_string(static_cast<long long>(nodes.prod())) +
+                     " grid nodes (at most 1e8; raise voxel)");
   for (int k = 0; k < 3; ++k) g.n[k] = static_cast<int>(nodes[k]);
 
   std::vector<float> field = layer_distance(surfels, g, half_thickness);

@@ -1,5 +1,6 @@
 // Recognition evaluation [paper 4]: test set, occluded test set and measures (rec_eval.hpp).
-#include <proxseg/eval/evaluation.hpp>
+#include <proxseg/eval/occlusion.hpp>
+#include <proxseg/eval/pose_error.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>

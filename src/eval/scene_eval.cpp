@@ -4,12 +4,13 @@
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/eval/scene_eval.hpp>
-#include <proxseg/io/cloud_io.hpp>
+
+#include "assignment.hpp"
+#include "linemod_models.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -91,12 +92,8 @@ bool is_named(const std::string& name) {
 }  // namespace
 
 SceneCatalogue scene_catalogue(const std::string& models_dir) {
-  namespace fs = std::filesystem;
   const auto linemod = [&](const char* id) {
-    const fs::path path = fs::path(models_dir) / (std::string(id) + ".ply");
-    if (!fs::is_regular_file(path))
-      throw InputError(path.string() + ": missing (the scene catalogue needs the LINEMOD mesh)");
-    return read_mesh(path.string(), 0.001);
+    return detail::linemod_mesh(models_dir, id, "the scene catalogue");
   };
   SceneCatalogue c;
   const Mesh ape = linemod("obj_000001"), duck = linemod("obj_000009");
@@ -234,48 +231,18 @@ std::vector<int> max_weight_assignment(const Eigen::MatrixXd& weight) {
   const bool flip = rows > cols;
   const Eigen::MatrixXd w = flip ? Eigen::MatrixXd(weight.transpose()) : weight;
   const int n = static_cast<int>(w.rows()), m = static_cast<int>(w.cols());
-  // Minimum cost on -w; 1-based, column 0 is the virtual start of each augmenting path.
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> u(n + 1, 0), v(m + 1, 0);
-  std::vector<int> p(m + 1, 0), way(m + 1, 0);
-  for (int i = 1; i <= n; ++i) {
-    p[0] = i;
-    int j0 = 0;
-    std::vector<double> minv(m + 1, inf);
-    std::vector<char> used(m + 1, 0);
-    do {
-      used[j0] = 1;
-      const int i0 = p[j0];
-      double delta = inf;
-      int j1 = 0;
-      for (int j = 1; j <= m; ++j) {
-        if (used[j]) continue;
-        const double cur = -w(i0 - 1, j - 1) - u[i0] - v[j];
-        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
-        if (minv[j] < delta) delta = minv[j], j1 = j;
-      }
-      for (int j = 0; j <= m; ++j) {
-        if (used[j]) {
-          u[p[j]] += delta;
-          v[j] -= delta;
-        } else {
-          minv[j] -= delta;
-        }
-      }
-      j0 = j1;
-    } while (p[j0] != 0);
-    do {
-      const int j1 = way[j0];
-      p[j0] = p[j1];
-      j0 = j1;
-    } while (j0 != 0);
-  }
-  for (int j = 1; j <= m; ++j) {
-    if (p[j] == 0 || !(w(p[j] - 1, j - 1) > 0)) continue;  // weight 0: no pair
+  // Maximum weight = minimum cost on -w (row-major).
+  std::vector<double> cost(static_cast<std::size_t>(n) * m);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) cost[static_cast<std::size_t>(i) * m + j] = -w(i, j);
+  const std::vector<int> col_of_row = detail::assign_min_cost(cost, n, m);
+  for (int i = 0; i < n; ++i) {
+    const int j = col_of_row[i];
+    if (j < 0 || !(w(i, j) > 0)) continue;  // weight 0: no pair
     if (flip)
-      out[j - 1] = p[j] - 1;
+      out[j] = i;
     else
-      out[p[j] - 1] = j - 1;
+      out[i] = j;
   }
   return out;
 }
@@ -329,18 +296,13 @@ double add_s(const std::vector<Eigen::Vector3d>& model, const Eigen::Matrix4d& e
 }
 
 SceneCounts& SceneCounts::operator+=(const SceneCounts& o) {
-  scenes += o.scenes;
-  truths += o.truths;
-  known += o.known;
-  unknown += o.unknown;
-  predictions += o.predictions;
-  detected += o.detected;
-  tp += o.tp;
-  fn += o.fn;
-  fp += o.fp;
-  unknown_named += o.unknown_named;
-  known_unknown += o.known_unknown;
-  pose_ok += o.pose_ok;
+  // Every count, field by field.
+  for (int SceneCounts::*count :
+       {&SceneCounts::scenes, &SceneCounts::truths, &SceneCounts::known, &SceneCounts::unknown,
+        &SceneCounts::predictions, &SceneCounts::detected, &SceneCounts::tp, &SceneCounts::fn,
+        &SceneCounts::fp, &SceneCounts::unknown_named, &SceneCounts::known_unknown,
+        &SceneCounts::pose_ok})
+    this->*count += o.*count;
   seconds += o.seconds;
   return *this;
 }

@@ -1,7 +1,7 @@
 // Batch work over a dataset: one frame's job and the JSON-lines summary (batch.hpp).
-#include <proxseg/core/memory.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/memory.hpp>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -215,19 +215,19 @@ void check_output_folder(const std::vector<std::string>& sources,
   for (const std::string& s : sources) {
     std::error_code ec;
     if (fs::is_directory(s, ec) && inside(out_dir, s))
-      throw InputError("output folder " + out_dir + " is inside the input folder " + s +
-                       " (a later batch would take its outputs for frames)");
+      throw OutputFolderError("output folder " + out_dir + " is inside the input folder " + s +
+                              " (a later batch would take its outputs for frames)");
   }
   std::map<std::string, std::string> stems;  // output stem -> frame id
   for (const auto& f : frames) {
     for (const std::string& file : f.files())
       if (inside(file, out_dir))
-        throw InputError("output folder " + out_dir + " holds the input " + file);
+        throw OutputFolderError("output folder " + out_dir + " holds the input " + file);
     const auto [it, fresh] = stems.emplace(output_stem(f.id), f.id);
     if (!fresh)
-      throw InputError("frames " + it->second + " and " + f.id + " would both write " +
-                       (fs::path(out_dir) / it->first).string() +
-                       ".* (expected one frame per output name; rename one)");
+      throw OutputFolderError("frames " + it->second + " and " + f.id + " would both write " +
+                              (fs::path(out_dir) / it->first).string() +
+                              ".* (expected one frame per output name; rename one)");
   }
 }
 
@@ -381,9 +381,8 @@ std::uintmax_t bytes_of(const nlohmann::json& row) {
   return bytes;
 }
 
-}  // namespace
-
-nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch) {
+// What summarize gathers from the logs, one after another.
+struct Merged {
   nlohmann::json first;  // the first header: the settings every log must share
   std::unordered_map<std::string, FrameState> states;
   std::size_t total = 0, batch_total = 0;
@@ -393,63 +392,72 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
   double peak = 0;
   nlohmann::json shards = nlohmann::json::array(), log_names = nlohmann::json::array(),
                  damaged_lines = nlohmann::json::array();
-  for (const std::string& log : logs) {
-    nlohmann::json header;
-    bool ended = false;
-    for_each_line(
-        log,
-        [&](nlohmann::json& line) {
-          if (line.contains("header")) {
-            header = line["header"];
-            ended = false;
-          } else if (line.contains("end")) {
-            ended = true;
-            const nlohmann::json& end = line["end"];
-            interrupted =
-                interrupted || (end.contains("interrupted") && end["interrupted"] != false);
-            if (end.contains("peak_rss_mib") && end["peak_rss_mib"].is_number())
-              peak = std::max(peak, end["peak_rss_mib"].get<double>());
-          } else if (line.contains("frame")) {
-            FrameState& state = states[line["frame"].get<std::string>()];
-            state.bytes = bytes_of(line);
-            state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
-          }
-        },
-        [&](const std::string& message, const std::string& frame) {
-          // A frame whose last row was damaged has no row: missing (done again by --resume).
-          if (!frame.empty()) states.erase(frame);
-          damaged_lines.push_back(skipped(message, frame));
-        });
-    if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
-    if (first.is_null()) first = header;
-    if (const std::string diff = header_difference(first, header); !diff.empty())
-      throw InputError(log + ": its run differs from " + logs.front() + "'s in " + diff +
-                       " (expected shards of one batch)");
-    interrupted = interrupted || !ended;  // killed, or still running
-    total += header.value("frames", std::size_t{0});
-    batch_total = std::max(batch_total, header.value("frames_all", std::size_t{0}));
-    const nlohmann::json shard = header.value("shard", nlohmann::json());
-    shards.push_back(shard);
-    log_names.push_back(fs::path(log).filename().string());
-    if (shard.is_string()) {
-      shard_names.insert(shard.get<std::string>());
-      const std::string s = shard;
-      shard_count = std::max(shard_count, std::atoi(s.c_str() + s.find('/') + 1));
-    }
+};
+
+// Adds one log (a shard's summary*.jsonl) to m; first_log names the log m's settings came from.
+void merge_log(const std::string& log, const std::string& first_log, Merged& m) {
+  nlohmann::json header;
+  bool ended = false;
+  for_each_line(
+      log,
+      [&](nlohmann::json& line) {
+        if (line.contains("header")) {
+          header = line["header"];
+          ended = false;
+        } else if (line.contains("end")) {
+          ended = true;
+          const nlohmann::json& end = line["end"];
+          m.interrupted =
+              m.interrupted || (end.contains("interrupted") && end["interrupted"] != false);
+          if (end.contains("peak_rss_mib") && end["peak_rss_mib"].is_number())
+            m.peak = std::max(m.peak, end["peak_rss_mib"].get<double>());
+        } else if (line.contains("frame")) {
+          FrameState& state = m.states[line["frame"].get<std::string>()];
+          state.bytes = bytes_of(line);
+          state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
+        }
+      },
+      [&](const std::string& message, const std::string& frame) {
+        // A frame whose last row was damaged has no row: missing (done again by --resume).
+        if (!frame.empty()) m.states.erase(frame);
+        m.damaged_lines.push_back(skipped(message, frame));
+      });
+  if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
+  if (m.first.is_null()) m.first = header;
+  if (const std::string diff = header_difference(m.first, header); !diff.empty())
+    throw InputError(log + ": its run differs from " + first_log + "'s in " + diff +
+                     " (expected shards of one batch)");
+  m.interrupted = m.interrupted || !ended;  // killed, or still running
+  m.total += header.value("frames", std::size_t{0});
+  m.batch_total = std::max(m.batch_total, header.value("frames_all", std::size_t{0}));
+  const nlohmann::json shard = header.value("shard", nlohmann::json());
+  m.shards.push_back(shard);
+  m.log_names.push_back(fs::path(log).filename().string());
+  if (shard.is_string()) {
+    m.shard_names.insert(shard.get<std::string>());
+    const std::string s = shard;
+    m.shard_count = std::max(m.shard_count, std::atoi(s.c_str() + s.find('/') + 1));
   }
-  if (first.is_null()) throw InputError("no batch summaries (summary*.jsonl) to merge");
+}
+
+}  // namespace
+
+nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch) {
+  Merged m;
+  for (const std::string& log : logs) merge_log(log, logs.front(), m);
+  if (m.first.is_null()) throw InputError("no batch summaries (summary*.jsonl) to merge");
   nlohmann::json missing = nlohmann::json::array();
   if (whole_batch) {
-    total = std::max(total, batch_total);
-    if (!shard_names.empty())
-      for (int i = 1; i <= shard_count; ++i)
-        if (!shard_names.count(std::to_string(i) + "/" + std::to_string(shard_count)))
-          missing.push_back(std::to_string(i) + "/" + std::to_string(shard_count));
+    m.total = std::max(m.total, m.batch_total);
+    if (!m.shard_names.empty())
+      for (int i = 1; i <= m.shard_count; ++i)
+        if (!m.shard_names.count(std::to_string(i) + "/" + std::to_string(m.shard_count)))
+          missing.push_back(std::to_string(i) + "/" + std::to_string(m.shard_count));
   }
   std::size_t done = 0;
   std::uintmax_t bytes = 0;
   std::vector<std::string> failed_ids;
-  for (const auto& [id, state] : states) {
+  for (const auto& [id, state] : m.states) {
     if (state.error_row.is_null())
       ++done;
     else
@@ -458,26 +466,27 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
   }
   std::sort(failed_ids.begin(), failed_ids.end(), natural_less);
   nlohmann::json failed = nlohmann::json::array();
-  for (const std::string& id : failed_ids) failed.push_back(std::move(states[id].error_row));
+  for (const std::string& id : failed_ids) failed.push_back(std::move(m.states[id].error_row));
   const std::size_t counted = done + failed_ids.size();
+  nlohmann::json& first = m.first;  // not const: operator[] gives null for a missing key
   nlohmann::json summary = {{"command", first["command"]},
                             {"sources", first["sources"]},
-                            {"shards", shards},
-                            {"logs", log_names},
-                            {"frames_total", total},
+                            {"shards", m.shards},
+                            {"logs", m.log_names},
+                            {"frames_total", m.total},
                             {"frames_done", done},
                             {"frames_failed", failed_ids.size()},
-                            {"frames_missing", total > counted ? total - counted : 0},
-                            {"interrupted", interrupted},
-                            {"peak_rss_mib", peak},
+                            {"frames_missing", m.total > counted ? m.total - counted : 0},
+                            {"interrupted", m.interrupted},
+                            {"peak_rss_mib", m.peak},
                             {"bytes_written", bytes},
                             {"failed", failed},
-                            {"damaged_lines", damaged_lines},
+                            {"damaged_lines", m.damaged_lines},
                             {"proxseg", first["proxseg"]},
                             {"outputs", first["outputs"]},
                             {"database", first.value("database", nlohmann::json())},
                             {"parameters", first["parameters"]}};
-  if (whole_batch && !shard_names.empty()) summary["shards_missing"] = missing;
+  if (whole_batch && !m.shard_names.empty()) summary["shards_missing"] = missing;
   return summary;
 }
 

@@ -411,8 +411,8 @@ std::vector<FrameSource> discover_frames(const std::vector<std::string>& sources
 std::vector<FrameSource> shard_frames(const std::vector<FrameSource>& frames, int index,
                                       int count) {
   if (count < 1 || index < 1 || index > count)
-    throw std::invalid_argument("shard " + std::to_string(index) + "/" + std::to_string(count) +
-                                " (expected I/N with 1 <= I <= N)");
+    throw InputError("shard " + std::to_string(index) + "/" + std::to_string(count) +
+                     " (expected I/N with 1 <= I <= N)");
   std::vector<FrameSource> mine;
   for (const FrameSource& f : frames) {
     std::uint64_t h = 14695981039346656037ull;  // FNV-1a, 64 bits

@@ -61,6 +61,23 @@ bool little_endian() {
 // Warnings (bad ancillary chunks, ...) are not errors; libpng's default prints them to stderr.
 void png_on_warning(png_structp, png_const_charp) {}
 
+// Creates the libpng structs of c (a PngReader or PngWriter) with create (png_create_read_struct
+// or png_create_write_struct), errors kept in c.message; false ("out of memory") if it cannot.
+template <typename Codec, typename Create>
+bool create_png(Codec& c, Create create) {
+  c.png = create(PNG_LIBPNG_VER_STRING, c.message, png_on_error, png_on_warning);
+  if (!c.png) {
+    copy_message(c.message, "out of memory");
+    return false;
+  }
+  c.info = png_create_info_struct(c.png);
+  if (!c.info) {
+    copy_message(c.message, "out of memory");
+    return false;
+  }
+  return true;
+}
+
 struct PngReader {
   png_structp png = nullptr;
   png_infop info = nullptr;
@@ -73,16 +90,7 @@ struct PngReader {
 
 // The transformations and channel layout of OpenCV's PNG decoder with IMREAD_UNCHANGED.
 bool decode_png(PngReader& r, std::FILE* f, cv::Mat& out, std::uint64_t max_pixels) {
-  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, r.message, png_on_error, png_on_warning);
-  if (!r.png) {
-    copy_message(r.message, "out of memory");
-    return false;
-  }
-  r.info = png_create_info_struct(r.png);
-  if (!r.info) {
-    copy_message(r.message, "out of memory");
-    return false;
-  }
+  if (!create_png(r, png_create_read_struct)) return false;
   if (setjmp(png_jmpbuf(r.png))) return false;
   // libpng refuses images wider or higher than 1,000,000 pixels by default; a label PNG of an
   // unorganized cloud is one row of a pixel per point. max_pixels is the guard instead.
@@ -277,16 +285,7 @@ void png_no_flush(png_structp) {}
 // The calls and settings of OpenCV's PNG encoder with its default parameters, for 8-bit BGR
 // (written as RGB) or 16-bit grey (written big-endian).
 bool encode(PngWriter& w, const cv::Mat& image) {
-  w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, w.message, png_on_error, png_on_warning);
-  if (!w.png) {
-    copy_message(w.message, "out of memory");
-    return false;
-  }
-  w.info = png_create_info_struct(w.png);
-  if (!w.info) {
-    copy_message(w.message, "out of memory");
-    return false;
-  }
+  if (!create_png(w, png_create_write_struct)) return false;
   if (setjmp(png_jmpbuf(w.png))) return false;
   png_set_write_fn(w.png, &w, png_append, png_no_flush);
   png_set_user_limits(w.png, PNG_UINT_31_MAX, PNG_UINT_31_MAX);  // as in decode_png
@@ -308,6 +307,14 @@ bool encode(PngWriter& w, const cv::Mat& image) {
   for (int y = 0; y < image.rows; ++y) png_write_row(w.png, image.ptr<png_byte>(y));
   png_write_end(w.png, w.info);
   return true;
+}
+
+// The PNG bytes of an image encode takes; std::runtime_error if libpng fails.
+std::string png_bytes(const cv::Mat& image) {
+  PngWriter w;
+  if (!encode(w, image))
+    throw std::runtime_error(std::string("PNG encoding failed (") + w.message + ")");
+  return std::move(w.bytes);
 }
 
 }  // namespace
@@ -345,19 +352,13 @@ cv::Mat read_image_file(const std::string& path, std::uint64_t max_pixels) {
 std::string encode_png(const cv::Mat& bgr) {
   if (bgr.type() != CV_8UC3 || bgr.empty())
     throw std::invalid_argument("encode_png: expected a non-empty 8-bit 3-channel image");
-  PngWriter w;
-  if (!encode(w, bgr))
-    throw std::runtime_error(std::string("PNG encoding failed (") + w.message + ")");
-  return std::move(w.bytes);
+  return png_bytes(bgr);
 }
 
 std::string encode_png16(const cv::Mat& grey16) {
   if (grey16.type() != CV_16UC1 || grey16.empty())
     throw std::invalid_argument("encode_png16: expected a non-empty 16-bit 1-channel image");
-  PngWriter w;
-  if (!encode(w, grey16))
-    throw std::runtime_error(std::string("PNG encoding failed (") + w.message + ")");
-  return std::move(w.bytes);
+  return png_bytes(grey16);
 }
 
 }  // namespace proxseg::detail

@@ -1,3 +1,5 @@
+// Input files as the readers take them (input_file.hpp): regular files only, read whole by one
+// descriptor.
 #include "input_file.hpp"
 
 #include <fcntl.h>

@@ -1,3 +1,4 @@
+// A mesh's size against its units (mesh_units.hpp).
 #include <proxseg/core/frame.hpp>
 #include <proxseg/io/mesh_units.hpp>
 

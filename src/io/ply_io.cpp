@@ -1,3 +1,4 @@
+// PLY reading: the header, then ascii or binary vertices, colours and faces (ply_io.hpp).
 #include "ply_io.hpp"
 
 #include "text_fields.hpp"

@@ -1,3 +1,4 @@
+// A database view made from a described cloud (model_view.hpp) [paper 3.4].
 #include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/registration.hpp>
 

@@ -1,3 +1,4 @@
+// The one place SQLite's C API is used (sqlite.hpp).
 #include "sqlite.hpp"
 
 #include <sqlite3.h>

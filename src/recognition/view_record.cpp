@@ -1,3 +1,4 @@
+// The bytes of a stored view and their checksums (view_record.hpp).
 #include "view_record.hpp"
 
 #include <proxseg/recognition/registration.hpp>

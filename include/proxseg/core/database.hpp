@@ -41,7 +41,7 @@ struct ModelView {
   const std::vector<Signature>& part_signatures() const { return parts->get(); }
 };
 
-struct DatabaseFile;  // an open database file (recognition/database_io.cpp)
+struct DatabaseFile;  // an open database file (src/recognition/database_file.hpp)
 
 struct Database {
   std::string dir;

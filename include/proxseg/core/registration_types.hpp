@@ -101,7 +101,7 @@ struct SketchSet {
 
 // A cloud ready for registration: voxel-filtered points in its own frame, normals oriented to
 // its viewpoint, FPFH features (one column per point) and search indexes.
-struct SearchIndex;  // point grid and feature matrices (src/recognition/registration.cpp)
+struct SearchIndex;  // point grid and feature matrices (src/recognition/search_index.hpp)
 struct Cloud {
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> normals;

@@ -180,8 +180,8 @@ void shade(Mesh& m, const Eigen::Vector3d& light, double ambient, double exposur
 // objects seen in pieces behind others). InputError for another name.
 ClutterParams clutter_kind(const std::string& kind);
 
-// Draws and renders one scene; throws InputError for a bad models_dir, std::invalid_argument for
-// inconsistent params, std::runtime_error if no valid layout is found in max_layouts draws.
+// Draws and renders one scene; throws InputError for a bad models_dir or inconsistent params,
+// std::runtime_error if no valid layout is found in max_layouts draws.
 ClutterScene clutter_layout_scene(const ClutterParams& params);
 // Its frame only.
 Frame clutter_scene(const ClutterParams& params);

@@ -69,8 +69,8 @@ struct PointMeshParams {
 // outwards, every vertex params.colour, label 0. Deterministic: single-threaded, the same
 // points and parameters give the same mesh bit for bit, whatever the thread settings. About
 // 0.1-0.4 s for the YCB-Video models (2,621 points each). InputError for fewer than 4 points or
-// a non-finite coordinate; std::invalid_argument for parameters out of range or a grid of more
-// than 100 million nodes (raise voxel).
+// a non-finite coordinate, for parameters out of range or a grid of more than 100 million nodes
+// (raise voxel).
 Mesh mesh_from_points(const std::vector<Eigen::Vector3d>& points,
                       const PointMeshParams& params = {});
 

@@ -44,9 +44,15 @@ nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::str
 nlohmann::json frame_row(const FrameSource& frame,
                          const std::function<void(nlohmann::json& row)>& work);
 
-// The outputs must stay out of the inputs and apart: InputError when out_dir is inside a source
-// folder (a later batch would take its outputs for frames) or holds an input file, or when two
-// frames would write the same outputs (a frame "summary" beside one "summary-frame").
+// An output folder that a batch's inputs rule out (check_output_folder): the CLI reports it as
+// a usage error (exit code 2), like its other option checks.
+struct OutputFolderError : InputError {
+  using InputError::InputError;
+};
+
+// The outputs must stay out of the inputs and apart: OutputFolderError when out_dir is inside a
+// source folder (a later batch would take its outputs for frames) or holds an input file, or when
+// two frames would write the same outputs (a frame "summary" beside one "summary-frame").
 void check_output_folder(const std::vector<std::string>& sources,
                          const std::vector<FrameSource>& frames, const std::string& out_dir);
 

@@ -68,8 +68,7 @@ bool natural_less(const std::string& a, const std::string& b);
 
 // Shard index of count (1-based, "--shard 2/3"): the frames whose id hashes to it (FNV-1a of the
 // id, modulo count), in the same order. Deterministic and stable: a frame keeps its shard
-// whatever other frames the dataset gains or loses. std::invalid_argument unless
-// 1 <= index <= count.
+// whatever other frames the dataset gains or loses. InputError unless 1 <= index <= count.
 std::vector<FrameSource> shard_frames(const std::vector<FrameSource>& frames, int index, int count);
 
 // A camera JSON of either kind: YCB-Video meta when it has "intrinsic_matrix" (read_ycb_meta),

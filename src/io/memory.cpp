@@ -1,4 +1,7 @@
-#include <proxseg/core/memory.hpp>
+// The process's memory: glibc allocator settings for frame-after-frame work and the resident
+// memory read from /proc and getrusage (memory.hpp). Process plumbing, so io and not core, which
+// reads no files.
+#include <proxseg/io/memory.hpp>
 
 #include <sys/resource.h>
 #include <unistd.h>

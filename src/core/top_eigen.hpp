@@ -1,0 +1,23 @@
+// The leading eigenpairs of a symmetric matrix, for the principal axes of the features
+// [paper 3.2]: a QR solver that takes back only the wanted eigenvectors, and Lanczos for large
+// matrices (top_eigen.cpp says how and why). tests/test_top_eigen.cpp checks both against
+// Eigen::SelfAdjointEigenSolver.
+#pragma once
+#include <Eigen/Core>
+
+namespace proxseg::detail {
+
+struct TopEigen {
+  Eigen::VectorXd values;   // k, descending
+  Eigen::MatrixXd vectors;  // d x k
+  double largest = 0;
+};
+
+// The k largest eigenvalues of the symmetric matrix whose lower triangle is `a`, descending,
+// with unit eigenvectors, and the largest eigenvalue (Eigen::SelfAdjointEigenSolver's algorithm).
+TopEigen top_eigen(const Eigen::MatrixXd& a, int k);
+
+// The same k eigenpairs by the Lanczos method; falls back to top_eigen where it cannot tell.
+TopEigen top_eigen_lanczos(const Eigen::MatrixXd& lower, int k);
+
+}  // namespace proxseg::detail

@@ -1,0 +1,196 @@
+// Descriptors [paper 3.4]: the voxel filter, normals and multi-radius FPFH of a cloud (a model
+// view or a candidate), the described cloud restored from the database, and its subsample for
+// registration.
+#include <proxseg/core/frame.hpp>
+#include <proxseg/recognition/registration.hpp>
+
+#include "search_index.hpp"
+#include "signatures.hpp"
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Feature.h>
+#include <algorithm>
+#include <cmath>
+
+namespace proxseg {
+
+using detail::build_index;
+using detail::make_signature;
+
+namespace {
+
+double median_spacing(const Cloud& c) {
+  std::vector<double> d;
+  d.reserve(c.size());
+  open3d::geometry::KDTreeFlann tree;
+  Eigen::MatrixXd data(3, c.size());  // must outlive the tree: Open3D keeps a view of it
+  for (std::size_t i = 0; i < c.size(); ++i) data.col(i) = c.points[i];
+  tree.SetMatrixData(data);
+  std::vector<int> idx;
+  std::vector<double> dist;
+  for (const auto& p : c.points)
+    if (tree.SearchKNN(p, 2, idx, dist) == 2) d.push_back(std::sqrt(dist[1]));
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return d[d.size() / 2];
+}
+
+// Rounds each coordinate to float precision and back: the precision a cloud has in a PCD file or
+// in the database cache.
+Eigen::Vector3d round_to_float(const Eigen::Vector3d& v) {
+  return {static_cast<double>(static_cast<float>(v.x())),
+          static_cast<double>(static_cast<float>(v.y())),
+          static_cast<double>(static_cast<float>(v.z()))};
+}
+
+Eigen::Vector3d mean(const std::vector<Eigen::Vector3d>& p) {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (const auto& x : p) s += x;
+  return p.empty() ? s : Eigen::Vector3d(s / double(p.size()));
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> voxel_filter(const std::vector<Eigen::Vector3d>& points,
+                                          double voxel_size, const std::vector<Rgb>* colours,
+                                          std::vector<Rgb>* out_colours) {
+  if (!(voxel_size > 0)) throw InputError("voxel_size: expected > 0");
+  struct Entry {
+    Eigen::Vector3i key;
+    int index;
+  };
+  std::vector<Entry> e;
+  e.reserve(points.size());
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    const auto& p = points[i];
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d k = (p / voxel_size).array().floor();
+    if (!(k.cwiseAbs().maxCoeff() < 1e9)) continue;  // beyond any sensor; would overflow
+    e.push_back({k.cast<int>(), i});
+  }
+  std::sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.key.z(), a.key.y(), a.key.x(), a.index) <
+           std::tie(b.key.z(), b.key.y(), b.key.x(), b.index);
+  });
+  std::vector<Eigen::Vector3d> out;
+  if (out_colours) out_colours->clear();
+  for (std::size_t a = 0; a < e.size();) {
+    std::size_t b = a;
+    Eigen::Vector3d s = Eigen::Vector3d::Zero(), rgb = Eigen::Vector3d::Zero();
+    for (; b < e.size() && e[b].key == e[a].key; ++b) {
+      s += points[e[b].index];
+      if (colours) {
+        const Rgb& c = (*colours)[e[b].index];
+        rgb += Eigen::Vector3d(c[0], c[1], c[2]);
+      }
+    }
+    out.push_back(s / double(b - a));
+    if (colours && out_colours) {
+      rgb /= double(b - a);
+      out_colours->push_back({static_cast<std::uint8_t>(std::lround(rgb.x())),
+                              static_cast<std::uint8_t>(std::lround(rgb.y())),
+                              static_cast<std::uint8_t>(std::lround(rgb.z()))});
+    }
+    a = b;
+  }
+  return out;
+}
+
+Cloud describe(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint,
+               const DescriptorParams& params, const std::vector<Rgb>* colours) {
+  if (colours && colours->size() != points.size())
+    throw InputError("describe: expected one colour per point");
+  std::vector<Rgb> filtered_colours;
+  auto filtered = voxel_filter(points, params.voxel_size, colours, &filtered_colours);
+  return describe_filtered(filtered, viewpoint, params, std::move(filtered_colours));
+}
+
+Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
+                        const Eigen::Vector3d& viewpoint, const DescriptorParams& params,
+                        std::vector<Rgb> colours) {
+  if (!colours.empty() && colours.size() != points.size())
+    throw InputError("describe: expected one colour per point");
+  if (params.fpfh_radii.empty()) throw InputError("fpfh_radii: expected at least one radius");
+  for (double r : params.fpfh_radii)
+    if (!(r > 0)) throw InputError("fpfh_radii: expected radii > 0");
+  if (!(params.normal_radius > 0)) throw InputError("normal_radius: expected > 0");
+  open3d::geometry::PointCloud pc;
+  pc.points_.reserve(points.size());
+  std::vector<Rgb> kept_colours;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].allFinite()) {
+      pc.points_.push_back(round_to_float(points[i]));
+      if (!colours.empty()) kept_colours.push_back(colours[i]);
+    }
+  if (pc.points_.size() < 10)
+    throw InputError("cloud has " + std::to_string(pc.points_.size()) +
+                     " points after the voxel filter (expected at least 10)");
+  pc.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(params.normal_radius, 30), false);
+  Cloud c;
+  c.points = pc.points_;
+  c.colours = std::move(kept_colours);
+  c.centroid = mean(c.points);
+  c.viewpoint = viewpoint;
+  const bool from_viewpoint = viewpoint.allFinite();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    Eigen::Vector3d n = pc.normals_[i];
+    const Eigen::Vector3d out = from_viewpoint ? Eigen::Vector3d(viewpoint - c.points[i])
+                                               : Eigen::Vector3d(c.points[i] - c.centroid);
+    if (n.dot(out) < 0) n = -n;
+    pc.normals_[i] = round_to_float(n);
+  }
+  c.normals = pc.normals_;
+  c.features.resize(kFpfhBins * params.fpfh_radii.size(), c.size());
+  for (std::size_t b = 0; b < params.fpfh_radii.size(); ++b) {
+    const auto f = open3d::pipelines::registration::ComputeFPFHFeature(
+        pc, open3d::geometry::KDTreeSearchParamHybrid(params.fpfh_radii[b], 100));
+    c.features.middleRows(b * kFpfhBins, kFpfhBins) =
+        f->data_.unaryExpr([](double x) { return static_cast<double>(static_cast<float>(x)); });
+  }
+  c.index = build_index(c);
+  c.spacing = median_spacing(c);
+  c.signature = make_signature(c);
+  return c;
+}
+
+Cloud restore(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals,
+              Eigen::MatrixXd features, const Eigen::Vector3d& viewpoint,
+              std::vector<Rgb> colours) {
+  if (!colours.empty() && colours.size() != points.size())
+    throw InputError("restore: expected one colour per point");
+  Cloud c;
+  c.colours = std::move(colours);
+  c.points = std::move(points);
+  c.normals = std::move(normals);
+  c.features = std::move(features);
+  c.centroid = mean(c.points);
+  c.viewpoint = viewpoint;
+  c.index = build_index(c);
+  c.spacing = median_spacing(c);
+  c.signature = make_signature(c);
+  return c;
+}
+
+Cloud subsample(const Cloud& cloud, int max_points) {
+  if (max_points <= 0 || static_cast<int>(cloud.size()) <= max_points) return cloud;
+  // Evenly spaced in voxel order: spread over the whole cloud, and deterministic.
+  const int n = max_points;
+  Cloud s;
+  s.features.resize(cloud.features.rows(), n);
+  for (int k = 0; k < n; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k) * cloud.size() / n;
+    s.points.push_back(cloud.points[i]);
+    s.normals.push_back(cloud.normals[i]);
+    if (!cloud.colours.empty()) s.colours.push_back(cloud.colours[i]);
+    s.features.col(k) = cloud.features.col(i);
+  }
+  s.centroid = mean(s.points);
+  s.viewpoint = cloud.viewpoint;
+  s.index = build_index(s);
+  s.spacing = cloud.spacing;  // the surface sampling the descriptors were computed at
+  s.signature = cloud.signature;
+  return s;
+}
+
+}  // namespace proxseg

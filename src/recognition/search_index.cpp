@@ -1,0 +1,95 @@
+// The search index of a described cloud [paper 3.4, Algorithm 2]: a dense point grid for exact
+// nearest-point queries within a small radius, and the feature matrices (search_index.hpp).
+#include "search_index.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace proxseg {
+namespace {
+
+PointGrid make_grid(const std::vector<Eigen::Vector3d>& points) {
+  PointGrid g;
+  if (points.empty()) return g;
+  Eigen::Vector3d lo = points[0], hi = points[0];
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // Coarser cells for very large clouds keep the grid within ~4M cells.
+  while (((hi - lo) / g.cell).array().floor().prod() > 4e6) g.cell *= 2;
+  g.origin = lo;
+  g.dims = ((hi - lo) / g.cell).array().floor().cast<int>() + 1;
+  const auto cell_of = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3i c = ((p - g.origin) / g.cell).array().floor().cast<int>();
+    return (static_cast<std::size_t>(c.z()) * g.dims.y() + c.y()) * g.dims.x() + c.x();
+  };
+  const std::size_t cells = static_cast<std::size_t>(g.dims.prod());
+  g.start.assign(cells + 1, 0);
+  for (const auto& p : points) ++g.start[cell_of(p) + 1];
+  for (std::size_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
+  g.order.resize(points.size());
+  std::vector<int> fill(g.start.begin(), g.start.end() - 1);
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) g.order[fill[cell_of(points[i])]++] = i;
+  for (int i : g.order) g.points.push_back(points[i]);
+  return g;
+}
+
+// Nearest point of the grid to q among the cells of the box of half-width r (-1 if none in the
+// ball of radius r), squared distance in d2.
+int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) {
+  const Eigen::Vector3d lo = (q.array() - r - g.origin.array()) / g.cell;
+  const Eigen::Vector3d hi = (q.array() + r - g.origin.array()) / g.cell;
+  Eigen::Vector3i a, b;
+  for (int k = 0; k < 3; ++k) {
+    if (hi[k] < 0 || lo[k] >= g.dims[k]) return -1;
+    a[k] = std::max(0, static_cast<int>(std::floor(lo[k])));
+    b[k] = std::min(g.dims[k] - 1, static_cast<int>(std::floor(hi[k])));
+  }
+  double best = r * r;
+  int found = -1;
+  for (int z = a.z(); z <= b.z(); ++z)
+    for (int y = a.y(); y <= b.y(); ++y) {
+      const std::size_t row = (static_cast<std::size_t>(z) * g.dims.y() + y) * g.dims.x();
+      for (int k = g.start[row + a.x()], e = g.start[row + b.x() + 1]; k < e; ++k) {
+        const double d = (g.points[k] - q).squaredNorm();
+        if (d <= best) {
+          best = d;
+          found = k;
+        }
+      }
+    }
+  if (found < 0) return -1;
+  d2 = best;
+  return g.order[found];
+}
+
+}  // namespace
+
+namespace detail {
+
+int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) {
+  if (g.order.empty()) return -1;
+  const double first = 0.5 * g.cell;
+  if (r > first) {
+    const int j = nearest_in_box(g, q, first, d2);
+    if (j >= 0) return j;
+  }
+  return nearest_in_box(g, q, r, d2);
+}
+
+std::shared_ptr<const SearchIndex> build_index(const Cloud& c) {
+  auto index = std::make_shared<SearchIndex>();
+  index->points = make_grid(c.points);
+  if (c.features.cols() > 0) {
+    index->features.push_back(c.features.cast<float>());
+    const int blocks = static_cast<int>(c.features.rows()) / kFpfhBins;
+    for (int b = 0; blocks > 1 && b < blocks; ++b)
+      index->features.push_back(c.features.middleRows(b * kFpfhBins, kFpfhBins).cast<float>());
+    for (const auto& f : index->features) index->norms2.push_back(f.colwise().squaredNorm());
+  }
+  return index;
+}
+
+}  // namespace detail
+}  // namespace proxseg
