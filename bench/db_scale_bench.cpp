@@ -51,6 +51,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "bench_main.hpp"
 #include "bench_util.hpp"
 #include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
 
@@ -929,33 +930,19 @@ int run(const Options& o) {
   md << "\nEvery object (kind, texture, size, hue turn) and row (stage times, load) is in "
         "`dbscale.json`.\n";
 
-  proxseg::write_file_atomic((out / "dbscale.md").string(), md.str());
-  proxseg::write_file_atomic((out / "dbscale.json").string(), summary.dump(2) + "\n");
-  if (o.json)
-    std::cout << summary.dump(2) << "\n";
-  else
-    std::cout << md.str();
-  return 0;
+  return proxseg::bench::finish(
+      out, {{"dbscale.md", md.str()}, {"dbscale.json", summary.dump(2) + "\n"}}, summary, md.str(),
+      o.json);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The allocator settings of the proxseg CLI, so that the times compare with rec_bench's.
-  proxseg::keep_freed_memory();
   CLI::App app{
       "db_scale_bench: recognition cost and accuracy against the database size (tested "
       "LINEMOD meshes + seeded distractors), shortlist against every view"};
   Options o;
   add_options(&app, o);
-  try {
-    app.parse(argc, argv);
-    return run(o);
-  } catch (const CLI::ParseError& e) {  // also --sizes, checked by run()
-    const int code = app.exit(e);       // prints help (code 0) or the usage error
-    return code == 0 ? 0 : 2;
-  } catch (const std::exception& e) {  // proxseg::InputError: bad models or output
-    std::cerr << "db_scale_bench: error: " << e.what() << "\n";
-    return 1;
-  }
+  // --sizes is checked by run(), as a usage error.
+  return proxseg::bench::main_of("db_scale_bench", app, argc, argv, [&] { return run(o); });
 }

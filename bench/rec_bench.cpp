@@ -9,6 +9,7 @@
 // Usage: rec_bench --models DIR -o OUT [--units mm|m] [--views N] [--tests N]
 //                  [--occluded-tests N] [--sweep-tests N] [--no-sweep] [--peers all|none|LIST]
 //                  [--peer-tests N] [--seed S] [--threads T] [--config FILE] [--json]
+#include "bench_main.hpp"
 #include "bench_util.hpp"
 
 #include <proxseg/eval/pose_error.hpp>
@@ -768,36 +769,22 @@ int run(const Options& o) {
     std::cerr << "rec_bench: gnuplot not found or failed: no PNG plots (the .gp scripts and "
                  "curves.csv are written; scripts/install-deps.sh --bench installs gnuplot)\n";
 
-  proxseg::write_file_atomic((out / "summary.md").string(), md.str());
-  proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
-  proxseg::write_file_atomic((out / "tests.csv").string(), tests_csv.str());
-  proxseg::write_file_atomic((out / "curves.csv").string(), curves_csv.str());
-  if (o.json)
-    std::cout << summary.dump(2) << "\n";
-  else
-    std::cout << md.str();
-  return 0;
+  return proxseg::bench::finish(out,
+                                {{"summary.md", md.str()},
+                                 {"summary.json", summary.dump(2) + "\n"},
+                                 {"tests.csv", tests_csv.str()},
+                                 {"curves.csv", curves_csv.str()}},
+                                summary, md.str(), o.json);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The allocator settings of the proxseg CLI (this benchmark was `proxseg bench-rec` before),
-  // so that the times compare with the CLI's and with earlier runs.
-  proxseg::keep_freed_memory();
   CLI::App app{
       "rec_bench: the paper's recognition experiments (Tables 2-3, ROC): rendered database, "
       "random test views, occlusions, sweeps and peers"};
   Options o;
   add_options(&app, o);
-  try {
-    app.parse(argc, argv);
-    return run(o);
-  } catch (const CLI::ParseError& e) {  // also --peers, checked by run()
-    const int code = app.exit(e);       // prints help (code 0) or the usage error
-    return code == 0 ? 0 : 2;
-  } catch (const std::exception& e) {  // proxseg::InputError: bad models, config or output
-    std::cerr << "rec_bench: error: " << e.what() << "\n";
-    return 1;
-  }
+  // --peers is checked by run(), as a usage error.
+  return proxseg::bench::main_of("rec_bench", app, argc, argv, [&] { return run(o); });
 }

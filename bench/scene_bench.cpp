@@ -40,6 +40,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "bench_util.hpp"
 #include "peers_pcl.hpp"
 #include "peers_rec.hpp"
@@ -734,22 +735,17 @@ int run(const Options& o) {
                   << fmt(t.iou, 3) << "," << csv_name(t.name) << "," << fmt(t.score, 4) << "\n";
     }
 
-  proxseg::write_file_atomic((out / "scenes.md").string(), md.str());
-  proxseg::write_file_atomic((out / "scenes.json").string(), summary.dump(2) + "\n");
-  proxseg::write_file_atomic((out / "predictions.csv").string(), csv.str());
-  proxseg::write_file_atomic((out / "truths.csv").string(), truth_csv.str());
-  if (o.json)
-    std::cout << summary.dump(2) << "\n";
-  else
-    std::cout << md.str();
-  return 0;
+  return proxseg::bench::finish(out,
+                                {{"scenes.md", md.str()},
+                                 {"scenes.json", summary.dump(2) + "\n"},
+                                 {"predictions.csv", csv.str()},
+                                 {"truths.csv", truth_csv.str()}},
+                                summary, md.str(), o.json);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The CLI's allocator settings, so that the times compare with the other benchmarks'.
-  proxseg::keep_freed_memory();
   CLI::App app{
       "scene_bench: end-to-end scene recognition (segmentation + recognition) on generated "
       "cluttered tabletops with known, look-alike and unknown objects, proxseg against PCL + "
@@ -817,14 +813,6 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1000, 10000000))
       ->capture_default_str();
   app.add_flag("--json", o.json, "Print scenes.json on stdout");
-  try {
-    app.parse(argc, argv);
-    return run(o);
-  } catch (const CLI::ParseError& e) {  // also the seed lists and --peers, checked by run()
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
-  } catch (const std::exception& e) {  // InputError: models, config, output folder
-    std::cerr << "scene_bench: error: " << e.what() << "\n";
-    return 1;
-  }
+  // The seed lists and --peers are checked by run(), as usage errors.
+  return proxseg::bench::main_of("scene_bench", app, argc, argv, [&] { return run(o); });
 }
