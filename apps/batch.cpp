@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <iostream>
 #include <mutex>
-#include <regex>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -64,11 +63,19 @@ namespace {
 // "I/N" -> {I, N}; a usage error otherwise.
 std::pair<int, int> parse_shard(const std::string& shard) {
   if (shard.empty()) return {1, 1};
-  std::smatch m;
-  if (std::regex_match(shard, m, std::regex(R"(([0-9]{1,6})/([0-9]{1,6}))"))) {
-    const int i = std::stoi(m[1]), n = std::stoi(m[2]);
-    if (i >= 1 && i <= n) return {i, n};
-  }
+  // Two numbers of 1 to 6 digits around one slash (no sign, no space).
+  auto number = [](const std::string& digits, int& out) {
+    if (digits.empty() || digits.size() > 6) return false;
+    for (char c : digits)
+      if (c < '0' || c > '9') return false;
+    out = std::stoi(digits);
+    return true;
+  };
+  const std::size_t slash = shard.find('/');
+  int i = 0, n = 0;
+  if (slash != std::string::npos && number(shard.substr(0, slash), i) &&
+      number(shard.substr(slash + 1), n) && i >= 1 && i <= n)
+    return {i, n};
   throw CLI::ValidationError("--shard " + shard + ": expected I/N with 1 <= I <= N, e.g. 2/3");
 }
 

@@ -6,20 +6,38 @@
 
 #include <algorithm>
 #include <cctype>
-#include <regex>
 #include <system_error>
 #include <utility>
 
 namespace proxseg {
 
+namespace {
+
+// The number of an mOSD learn scene's file name, "learn<digits>" with an optional ".<extension>"
+// (letters, digits, _); -1 for any other name.
+int learn_number(const std::string& name) {
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  auto digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
+  if (name.rfind("learn", 0) != 0) return -1;
+  std::size_t end = 5;
+  while (end < name.size() && digit(name[end])) ++end;
+  if (end == 5) return -1;
+  if (end < name.size()) {
+    if (name[end] != '.' || end + 1 == name.size()) return -1;
+    for (std::size_t k = end + 1; k < name.size(); ++k)
+      if (!word(name[k])) return -1;
+  }
+  return std::stoi(name.substr(5, end - 5));
+}
+
+}  // namespace
+
 std::string scene_category(const std::string& scene_name) {
-  static const std::regex learn(R"(^learn(\d+)(\.\w+)?$)");
-  std::smatch m;
   const std::string name = std::filesystem::path(scene_name).filename().string();
   for (const char* kind : {"clutter", "piles", "occlusion"})  // generated: clutter_kind()
     if (name.rfind(kind, 0) == 0) return kind;
-  if (!std::regex_match(name, m, learn)) return "other";
-  const int i = std::stoi(m[1]);
+  const int i = learn_number(name);
+  if (i < 0) return "other";
   return i <= 16   ? "boxes"
          : i <= 24 ? "stacked"
          : i <= 32 ? "occluded"
