@@ -100,6 +100,11 @@ def _run_frame(frame: Dict[str, str]) -> Dict[str, Any]:
     return plugin.run(frame)
 
 
+def _frames(n: int) -> str:
+    """'1 frame', '2 frames': the CLI's counts."""
+    return f"{n} frame" + ("" if n == 1 else "s")
+
+
 def _write_atomic(path: str, text: str) -> None:
     tmp = os.path.join(os.path.dirname(path), f".{os.path.basename(path)}.tmp.{os.getpid()}")
     with open(tmp, "w") as f:
@@ -192,9 +197,9 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
     todo, log = start["todo"], start["log"]
     if progress:
         if start["redone"]:
-            sys.stderr.write(f"proxseg.dask: note: {out_dir} holds {start['redone']} frames an "
+            sys.stderr.write(f"proxseg.dask: note: {out_dir} holds {_frames(start['redone'])} an "
                              "earlier run finished; doing them again (--resume skips them)\n")
-        sys.stderr.write(f"proxseg.dask: {start['frames']} frames"
+        sys.stderr.write(f"proxseg.dask: {_frames(start['frames'])}"
                          + (f", {start['frames'] - len(todo)} done before" if resume else "")
                          + "\n")
 
@@ -332,7 +337,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         print(json.dumps(summary, indent=2))
     else:
         print(f"{os.path.join(args.output, 'summary.json')}: {summary['frames_done']} of "
-              f"{summary['frames_total']} frames done"
+              f"{_frames(summary['frames_total'])} done"
               + (f", {summary['frames_failed']} failed" if summary["frames_failed"] else ""))
     return 1 if summary["frames_failed"] else 0
 
