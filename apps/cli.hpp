@@ -49,6 +49,8 @@ void add_parameter_flags(CLI::App* cmd, ParamFlags& out, bool recognition);
 // The ranges are validate()'s, afterwards.
 void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
                            proxseg::RecognitionParams* rec);
+// Logs each deprecation note of --config's old keys (proxseg::renamed_note) as a warning.
+void warn_renamed(const std::vector<std::string>& notes);
 
 // The scene input and the segmentation flags of `segment` and `recognize`.
 struct SegmentOptions : BatchOptions {

@@ -81,7 +81,9 @@ void print_scores(const proxseg::SceneScores& s) {
 
 int run_eval_batch(const EvalOptions& o) {
   proxseg::SegmentParams params = proxseg::preset(o.preset);
-  if (!o.config.empty()) params = proxseg::read_params(o.config, params);
+  std::vector<std::string> renamed;
+  if (!o.config.empty()) params = proxseg::read_params(o.config, params, &renamed);
+  warn_renamed(renamed);
   if (o.threads) params.threads = *o.threads;
   proxseg::validate(params);
   const auto files = proxseg::scene_files(o.batch);

@@ -3,6 +3,7 @@
 // aliases, and `--set KEY=VALUE` for every row.
 #include <proxseg/core/parameters.hpp>
 
+#include <iostream>
 #include <set>
 #include <sstream>
 
@@ -151,8 +152,14 @@ void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
     }
     if (s) set_seg(*s, text, what);
     if (r) set_rec(*r, text, what);
+    if (const std::string note = s ? proxseg::renamed_note(*s, key) : ""; !note.empty())
+      std::cerr << "proxseg: warning: --set " << note << "\n";
   }
   if (labels) seg.paper_labels = true;
+}
+
+void warn_renamed(const std::vector<std::string>& notes) {
+  for (const std::string& note : notes) std::cerr << "proxseg: warning: " << note << "\n";
 }
 
 }  // namespace cli

@@ -125,7 +125,10 @@ int run_recognize(const RecognizeOptions& o) {
     check_scene_options(o, proxseg::output_files(o.output, outputs, true));
   proxseg::SegmentParams seg = proxseg::preset(o.preset);
   proxseg::RecognitionParams rec;
-  if (!o.config.empty()) std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec);
+  std::vector<std::string> renamed;
+  if (!o.config.empty())
+    std::tie(seg, rec) = proxseg::read_recognize_params(o.config, seg, rec, &renamed);
+  warn_renamed(renamed);
   apply_parameter_flags(o.params, seg, &rec);
   proxseg::validate(seg);
   proxseg::validate(rec);

@@ -52,7 +52,9 @@ int run_segment(const SegmentCommand& o) {
   if (!o.batch.empty() && !o.candidates_dir.empty())
     throw CLI::ValidationError("--candidates-dir goes without --batch");
   proxseg::SegmentParams base = proxseg::preset(o.preset);
-  if (!o.config.empty()) base = proxseg::read_params(o.config, base);
+  std::vector<std::string> renamed;
+  if (!o.config.empty()) base = proxseg::read_params(o.config, base, &renamed);
+  warn_renamed(renamed);
   const proxseg::SegmentParams params = segment_params(o, base);
   if (!o.batch.empty()) {
     // Frames side by side, one thread each (as many as the threads asked for): a frame's stages

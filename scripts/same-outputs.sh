@@ -11,18 +11,35 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 frames=$data/ycbv/frames
 
-# Strips what legitimately differs between two builds and runs: times, version, commit.
+# Strips what legitimately differs between two builds and runs: times, version, commit; and
+# lays the parameters echoed out as 0.1 did (the selection's sections flattened back to their old
+# keys, as NEW's `params --json` names them), so that a renamed parameter is not a difference.
 normalise() {
   python3 -c '
 import json, sys
+renamed = [r for r in json.load(open(sys.argv[2]))["segmentation"] if r.get("old_key")]
+def flatten(x):
+    for r in renamed:
+        *path, name = r["key"].split(".")
+        where = x
+        for p in path:
+            where = where.get(p) if isinstance(where, dict) else None
+        if isinstance(where, dict) and name in where:
+            old_section, old_name = r["old_key"].rsplit(".", 1)
+            x[old_section][old_name] = where.pop(name)
+    for section in ("voxels", "image", "occlusion", "containers"):
+        if isinstance(x["selection"].get(section), dict) and not x["selection"][section]:
+            del x["selection"][section]
 def strip(x):
     if isinstance(x, dict):
+        if isinstance(x.get("selection"), dict):
+            flatten(x)
         return {k: strip(v) for k, v in x.items()
                 if not (k.endswith("_ms") or k in ("times_ms", "version", "commit", "build"))}
     if isinstance(x, list):
         return [strip(v) for v in x]
     return x
-print(json.dumps(strip(json.load(open(sys.argv[1]))), indent=1, sort_keys=True))' "$1"
+print(json.dumps(strip(json.load(open(sys.argv[1]))), indent=1, sort_keys=True))' "$1" "$work/table.json"
 }
 
 # Both builds run in the same folder ($work/run, then renamed), so that the paths the reports
@@ -46,6 +63,7 @@ run_all() {  # BIN OUT THREADS
   mv "$out" "$final"
 }
 
+"$new" params segmentation --json > "$work/table.json"
 status=0
 for threads in 1 2; do
   run_all "$old" "$work/old-$threads" "$threads"

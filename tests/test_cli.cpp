@@ -98,7 +98,7 @@ TEST(Cli, SegmentsARealSceneIntoThreeFiles) {
   EXPECT_EQ(j["parameters"]["voxels"]["voxel_size"], 0.02);
   EXPECT_EQ(j["parameters"]["mrf"]["method"], "swap");
   EXPECT_FALSE(j["parameters"]["paper_labels"].get<bool>());
-  for (const char* stage : {"grid_surfaces", "selection", "total"})
+  for (const char* stage : {"image_surfaces", "selection", "total"})
     EXPECT_GE(j["times_ms"][stage].get<double>(), 0.0) << stage;
   // --paper-labels: every valid point takes one of the paper's labels, and stages 2-6 run.
   const CliRun p = run("segment " + learn0() + " -o " + o.string() + " --paper-labels");

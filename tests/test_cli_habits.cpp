@@ -90,12 +90,13 @@ TEST(CliHabits, UnknownConfigKeysAndSetKeysGetSuggestions) {
 
 TEST(CliHabits, SetReachesEveryParameterAndFlagsAskForTheLabelsTheyChange) {
   const fs::path d = scratch();
-  const CliRun r = run("segment " + learn0() + " -o " + (d / "a").string() +
-                       " --set selection.merge_window=5 --set features.normal_edge_ratio=0.02 "
-                       "--set kmeans.tolerance=1e-5 --json");
+  const CliRun r =
+      run("segment " + learn0() + " -o " + (d / "a").string() +
+          " --set selection.image.merge_window=5 --set features.normal_edge_ratio=0.02 "
+          "--set kmeans.tolerance=1e-5 --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json p = nlohmann::json::parse(r.out)["parameters"];
-  EXPECT_EQ(p["selection"]["merge_window"], 5);
+  EXPECT_EQ(p["selection"]["image"]["merge_window"], 5);
   EXPECT_DOUBLE_EQ(p["features"]["normal_edge_ratio"].get<double>(), 0.02);
   EXPECT_DOUBLE_EQ(p["kmeans"]["tolerance"].get<double>(), 1e-5);
   EXPECT_TRUE(p["paper_labels"].get<bool>());  // k-means was asked about

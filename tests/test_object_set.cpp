@@ -262,8 +262,8 @@ TEST(ObjectSet, LookalikeVoteTellsTheYellowBowlFromTheGreen) {
     if (t.name == "bowl-yellow") yellow = t.label;
   ASSERT_NE(yellow, 0u);
   SegmentParams before;
-  before.selection.image_normal_step = before.selection.concavity_step = 5;
-  before.selection.edge_aware_normals = false;
+  before.selection.image.normal_step = before.selection.image.concavity_step = 5;
+  before.selection.image.edge_aware_normals = false;
   const SegmentResult s = segment(scene.frame, before);
   const RecognitionParams p;
   int voted = 0;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
@@ -64,27 +66,39 @@ std::vector<std::string> declared_fields(const fs::path& header, const std::stri
   return fields;
 }
 
+// The row's value in the JSON of the parameters: "selection.image.normal_step" is
+// j["selection"]["image"]["normal_step"].
+const nlohmann::json& value_at(const nlohmann::json& j, const Parameter& row) {
+  std::string pointer = "/" + row.key();
+  std::replace(pointer.begin(), pointer.end(), '.', '/');
+  return j.at(nlohmann::json::json_pointer(pointer));
+}
+
 std::set<std::string> keys(const std::vector<Parameter>& table) {
   std::set<std::string> k;
   for (const Parameter& row : table) k.insert(row.key());
   return k;
 }
 
+// The keys of every field of struct `type`, nested structs' fields under their member's name
+// ("selection.image.normal_step").
+void declared_keys(const std::map<std::string, fs::path>& headers, const std::string& type,
+                   const std::string& prefix, std::set<std::string>& out) {
+  ASSERT_TRUE(headers.count(type)) << "no header for " << type;
+  for (const std::string& f : declared_fields(headers.at(type), type)) {
+    const auto colon = f.find(':');
+    if (colon == std::string::npos)
+      out.insert(prefix + f);
+    else
+      declared_keys(headers, f.substr(0, colon), prefix + f.substr(colon + 1) + ".", out);
+  }
+}
+
 // Every field of the parameter structs (in the headers) has a row, and every row a field.
 void expect_table_covers(const std::vector<Parameter>& table, const std::string& top,
                          const std::map<std::string, fs::path>& headers) {
   std::set<std::string> declared;
-  for (const std::string& f : declared_fields(headers.at(top), top)) {
-    const auto colon = f.find(':');
-    if (colon == std::string::npos) {
-      declared.insert(f);
-      continue;
-    }
-    const std::string type = f.substr(0, colon), section = f.substr(colon + 1);
-    ASSERT_TRUE(headers.count(type)) << "no header for " << type;
-    for (const std::string& g : declared_fields(headers.at(type), type))
-      declared.insert(section + "." + g);
-  }
+  declared_keys(headers, top, "", declared);
   const std::set<std::string> rows = keys(table);
   for (const std::string& d : declared)
     EXPECT_TRUE(rows.count(d)) << d << " is a field of " << top << " but not in the table";
@@ -102,7 +116,11 @@ TEST(ParameterTable, HasARowForEveryFieldOfTheSegmentationStructs) {
                        {"ClusteringParams", core / "clustering.hpp"},
                        {"KMeansParams", core / "clustering.hpp"},
                        {"MrfParams", core / "mrf.hpp"},
-                       {"SelectionParams", core / "selection.hpp"}});
+                       {"SelectionParams", core / "selection.hpp"},
+                       {"VoxelSelectionParams", core / "selection.hpp"},
+                       {"ImageSelectionParams", core / "selection.hpp"},
+                       {"OcclusionParams", core / "selection.hpp"},
+                       {"ContainerParams", core / "selection.hpp"}});
 }
 
 TEST(ParameterTable, HasARowForEveryFieldOfTheRecognitionStructs) {
@@ -129,8 +147,7 @@ TEST(ParameterTable, DefaultsAreTheStructsOwn) {
   for (const auto& [table, j] :
        {std::pair{&segment_parameters(), &seg}, std::pair{&recognition_parameters(), &rec}})
     for (const Parameter& row : *table) {
-      const nlohmann::json& v =
-          row.section.empty() ? j->at(row.name) : j->at(row.section).at(row.name);
+      const nlohmann::json& v = value_at(*j, row);
       std::visit([&](const auto& d) { EXPECT_EQ(nlohmann::json(d), v) << row.key(); },
                  row.default_value);
     }
@@ -159,7 +176,7 @@ TEST(ParameterTable, ValidateChecksEveryRowsRange) {
     EXPECT_THROW(validate(p), InputError) << row.key();
   }
   SegmentParams p;
-  p.selection.container_max_radius = 0.01;  // under the minimum radius
+  p.selection.containers.max_radius = 0.01;  // under the minimum radius
   EXPECT_THROW(validate(p), InputError);
   RecognitionParams r;
   r.lookalike_share = 0;  // off
@@ -208,6 +225,84 @@ TEST(ParameterTable, ConfigKeysGetSuggestions) {
   }
 }
 
+TEST(ParameterTable, SelectionSectionsNestInTheJson) {
+  SegmentParams p;
+  p.selection.image.normal_step = 6;
+  p.selection.occlusion.enabled = false;
+  const nlohmann::json j = to_json(p);
+  EXPECT_EQ(j["selection"]["image"]["normal_step"], 6);
+  EXPECT_EQ(j["selection"]["occlusion"]["enabled"], false);
+  EXPECT_EQ(j["selection"]["voxels"]["merge_min_boundary"], 3);
+  EXPECT_EQ(j["selection"]["containers"]["min_radius"], 0.02);
+  EXPECT_FALSE(j["selection"].contains("image_normal_step"));
+  EXPECT_EQ(to_json(params_from_json(j)), j);
+  try {  // a section given a value
+    params_from_json(nlohmann::json::parse(R"({"selection": {"image": 4}})"));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field selection.image: expected an object"),
+              std::string::npos)
+        << e.what();
+  }
+  // "enabled" is a name of three sections: the bare name is refused, naming them.
+  try {
+    set_parameter(p, "enabled", false);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("selection.occlusion.enabled"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ParameterTable, OldSelectionKeysAreReadWithADeprecationNote) {
+  std::vector<std::string> notes;
+  const SegmentParams p = params_from_json(
+      nlohmann::json::parse(R"({"selection": {"image_normal_step": 5, "join_occluded": false,
+                                "merge_convex": false, "cluster_tolerance": 0.02}})"),
+      {}, &notes);
+  EXPECT_EQ(p.selection.image.normal_step, 5);
+  EXPECT_FALSE(p.selection.occlusion.enabled);
+  EXPECT_FALSE(p.selection.voxels.merge_convex);
+  EXPECT_EQ(p.selection.cluster_tolerance, 0.02);
+  ASSERT_EQ(notes.size(), 3u);  // cluster_tolerance kept its key
+  EXPECT_EQ(notes[0],
+            "config: selection.image_normal_step is now selection.image.normal_step (the old "
+            "key will be removed)");
+  SegmentParams q;
+  set_parameter(q, "occlusion_window", 50);                 // the bare old name
+  set_parameter(q, "selection.container_min_depth", 0.03);  // the old key
+  EXPECT_EQ(q.selection.occlusion.window, 50);
+  EXPECT_EQ(q.selection.containers.min_depth, 0.03);
+  const std::vector<Parameter>& table = segment_parameters();
+  const Parameter& row = require_parameter(table, "selection.occlusion.window");
+  EXPECT_EQ(row.old_key, "selection.occlusion_window");
+  EXPECT_EQ(renamed_note(row, "selection.occlusion.window"), "");
+  EXPECT_EQ(renamed_note(row, "window"), "");
+  EXPECT_NE(renamed_note(row, "occlusion_window"), "");
+  EXPECT_EQ(require_parameter(table, "selection.cluster_tolerance").old_key, "");
+}
+
+TEST(ParameterFlags, OldKeysWarnOnStderrAndStillApply) {
+  const fs::path d = kTmp / "old_keys";
+  fs::create_directories(d);
+  std::ofstream(d / "old.json") << R"({"selection": {"join_containers": false}})";
+  const CliRun r =
+      run("segment " + cli_test::learn0() + " -o " + (d / "s").string() + " --config " +
+          (d / "old.json").string() + " --set selection.occlusion_min_rays=12 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("proxseg: warning: config: selection.join_containers is now "
+                       "selection.containers.enabled"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("proxseg: warning: --set selection.occlusion_min_rays is now "
+                       "selection.occlusion.min_rays"),
+            std::string::npos)
+      << r.err;
+  const nlohmann::json p = nlohmann::json::parse(r.out)["parameters"]["selection"];
+  EXPECT_EQ(p["containers"]["enabled"], false);
+  EXPECT_EQ(p["occlusion"]["min_rays"], 12);
+}
+
 // The --help of a command: flag -> its help text (the lines after it joined).
 std::map<std::string, std::string> help_of(const std::string& command) {
   const CliRun r = run(command + " --help");
@@ -231,8 +326,7 @@ void expect_help_shows_defaults(const std::string& command, const std::vector<Pa
     if (row.flag.empty()) continue;
     const std::string flag = "--" + row.flag;
     ASSERT_TRUE(help.count(flag)) << command << " --help has no " << flag;
-    const nlohmann::json& v =
-        row.section.empty() ? defaults.at(row.name) : defaults.at(row.section).at(row.name);
+    const nlohmann::json& v = value_at(defaults, row);
     const std::string& text = help.at(flag);
     if (row.type == ParamType::kBool) {
       const bool on = v.get<bool>();

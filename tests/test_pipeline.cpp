@@ -115,14 +115,14 @@ TEST(Pipeline, DefaultStopsAfterTwoSweepsPaperConverges) {
   SegmentParams p = labelled();
   EXPECT_EQ(p.mrf.max_cycles, 2);
   const SegmentResult fast = segment(f, p);
-  EXPECT_EQ(fast.mrf_cycles, 2);
+  EXPECT_EQ(fast.mrf_cycles_run, 2);
   p.mrf.max_cycles = 100;
   const SegmentResult converged = segment(f, p);
-  EXPECT_GT(converged.mrf_cycles, 2);
+  EXPECT_GT(converged.mrf_cycles_run, 2);
   EXPECT_LE(converged.energy_after, fast.energy_after);
   EXPECT_LT(fast.energy_after, fast.energy_before);
   const SegmentResult paper = segment(f, preset("paper"));
-  EXPECT_GT(paper.mrf_cycles, 2);
+  EXPECT_GT(paper.mrf_cycles_run, 2);
 }
 
 TEST(Pipeline, YcbVideoFrameObjectsApartFromDesk) {
@@ -220,7 +220,7 @@ TEST(Pipeline, DefaultSkipsThePaperLabelsItDoesNotConsult) {
     EXPECT_EQ(fast.voxels.size(), 0u);
     std::vector<std::string> stages;
     for (const auto& [stage, ms] : fast.times_ms) stages.push_back(stage);
-    EXPECT_EQ(stages, (std::vector<std::string>{"grid_surfaces", "selection"}));
+    EXPECT_EQ(stages, (std::vector<std::string>{"image_surfaces", "selection"}));
     // Labels: the surfaces, every valid point in one (or in none), invalid points 0.
     std::size_t unlabelled = 0;
     for (std::size_t i = 0; i < f.size(); ++i) {
@@ -231,9 +231,9 @@ TEST(Pipeline, DefaultSkipsThePaperLabelsItDoesNotConsult) {
     }
     EXPECT_LT(unlabelled, f.valid_count() / 100) << scene;
     SegmentParams consulted;
-    consulted.selection.merge_min_agreement = 0.8;
+    consulted.selection.image.merge_min_agreement = 0.8;
     EXPECT_TRUE(needs_paper_labels(consulted, f));
-    consulted.selection.merge_links = false;
+    consulted.selection.image.merge_links = false;
     EXPECT_FALSE(needs_paper_labels(consulted, f));  // nothing consults them without the links
     EXPECT_FALSE(needs_paper_labels(SegmentParams{}, f));
   }

@@ -143,7 +143,7 @@ TEST(SegQuality, PilesAndOcclusionScenesFloor) {
 TEST(SegQuality, AnObjectSeenOnBothSidesOfAnotherIsOne) {
   const std::vector<Frame> frames = learn_frames({28, 29, 30, 31});
   SegmentParams off = preset("default");
-  off.selection.join_occluded = false;
+  off.selection.occlusion.enabled = false;
   const Quality with = score(frames, preset("default")), without = score(frames, off);
   std::printf("object F with the occlusion join %.3f, without %.3f\n", with.f, without.f);
   EXPECT_GE(with.f, 0.98);
@@ -157,7 +157,7 @@ TEST(SegQuality, AnObjectSeenOnBothSidesOfAnotherIsOne) {
 TEST(SegQuality, TheInsideAndOutsideOfAContainerAreOne) {
   const std::vector<Frame> frames = learn_frames({36, 37, 38});
   SegmentParams off = preset("default");
-  off.selection.join_containers = false;
+  off.selection.containers.enabled = false;
   const Quality with = score(frames, preset("default")), without = score(frames, off);
   std::printf("object F with the container join %.3f, without %.3f\n", with.f, without.f);
   EXPECT_GE(with.f, 0.94);

@@ -62,7 +62,7 @@ struct Builder {
 SelectionParams small_objects() {
   SelectionParams p;
   p.min_candidate_points = 50;
-  p.split_concave = p.merge_convex = p.cut_support_plane = p.absorb_small = true;
+  p.split_concave = p.voxels.merge_convex = p.cut_support_plane = p.absorb_small = true;
   return p;
 }
 
@@ -87,11 +87,11 @@ TEST(Selection, DifferentLabelsTouchingStayApartWithoutMerging) {
   b.patch({0.104f, 0, 1}, Eigen::Vector3f::UnitX(), Eigen::Vector3f::UnitY(), 0.1f, 0.1f, 0.004f,
           2);
   SelectionParams p = small_objects();
-  p.merge_convex = false;
+  p.voxels.merge_convex = false;
   const auto s = b.select(p);
   EXPECT_EQ(s.components.size(), 2u);
   // Coplanar neighbours meet in a flat boundary: with merging they become one component.
-  p.merge_convex = true;
+  p.voxels.merge_convex = true;
   EXPECT_EQ(b.select(p).components.size(), 1u);
 }
 
@@ -104,7 +104,7 @@ TEST(Selection, WeakBridgeIsCutAndItsPointsGiveBack) {
   for (float x = 0.106f; x < 0.157f; x += 0.006f) b.add({x, 0.05f, 1}, 1);
   SelectionParams p = small_objects();
   p.cluster_tolerance = 0.008;  // the bridge spacing (6 mm) would connect without the density cut
-  p.merge_convex = p.cut_support_plane = p.split_concave = false;
+  p.voxels.merge_convex = p.cut_support_plane = p.split_concave = false;
   const auto s = b.select(p);
   EXPECT_EQ(s.clusters, 1);
   ASSERT_EQ(s.components.size(), 2u);
@@ -222,7 +222,7 @@ std::pair<double, std::uint32_t> majority(const Frame& f, const proxseg::Selecti
 
 TEST(ImageSelection, FindsEveryObjectOfARenderedTableByGeometry) {
   RenderedTable t;
-  const proxseg::Selection s = proxseg::select_candidates_on_grid(t.frame, t.labels, {});
+  const proxseg::Selection s = proxseg::select_candidates_on_image(t.frame, t.labels, {});
   const auto [table_share, table] = majority(t.frame, s, 1);
   EXPECT_GT(table_share, 0.97);
   ASSERT_GT(table, 0u);
@@ -251,8 +251,8 @@ TEST(ImageSelection, SameInstancesWhenTheCloudLooksDownMinusZ) {
   RenderedTable t;
   Frame flipped = t.frame;
   for (auto& p : flipped.xyz) p = Eigen::Vector3f(p.x(), -p.y(), -p.z());
-  const auto a = proxseg::select_candidates_on_grid(t.frame, t.labels, {});
-  const auto b = proxseg::select_candidates_on_grid(flipped, t.labels, {});
+  const auto a = proxseg::select_candidates_on_image(t.frame, t.labels, {});
+  const auto b = proxseg::select_candidates_on_image(flipped, t.labels, {});
   EXPECT_EQ(a.instance, b.instance);
 }
 
@@ -272,7 +272,7 @@ TEST(ImageSelection, ObjectsLyingFlatStayOffTheTable) {
   const Frame f = proxseg::render(scene, proxseg::synth_render_params({}));
   std::vector<std::uint32_t> labels(f.size(), 0);
   for (std::size_t p = 0; p < f.size(); ++p) labels[p] = f.valid(p) ? 1 : 0;
-  const proxseg::Selection s = proxseg::select_candidates_on_grid(f, labels, {});
+  const proxseg::Selection s = proxseg::select_candidates_on_image(f, labels, {});
   const auto [share, instance] = majority(f, s, 2);
   EXPECT_GT(share, 0.8);
   ASSERT_NE(instance, 0u);
@@ -281,8 +281,8 @@ TEST(ImageSelection, ObjectsLyingFlatStayOffTheTable) {
 
 TEST(ImageSelection, AMarkerLyingOnTheTableComesWithoutTheTableAroundIt) {
   // A marker (9.5 mm radius) lying on the table: the table's normals beside it are bent by it over
-  // image_normal_step pixels; without plane_flat_sigmas that ring of table stays with the marker
-  // (0.3 of its instance; around a pen it is half).
+  // image.normal_step pixels; without image.plane_flat_sigmas that ring of table stays with the
+  // marker (0.3 of its instance; around a pen it is half).
   const auto meshes = proxseg::synth_meshes({});
   std::vector<proxseg::Mesh> scene = {meshes.front()};  // the table
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -308,8 +308,8 @@ TEST(ImageSelection, AMarkerLyingOnTheTableComesWithoutTheTableAroundIt) {
   };
   for (const double flat : {1.0, 0.0}) {
     proxseg::SelectionParams params;
-    params.plane_flat_sigmas = flat;
-    const proxseg::Selection s = proxseg::select_candidates_on_grid(f, labels, params);
+    params.image.plane_flat_sigmas = flat;
+    const proxseg::Selection s = proxseg::select_candidates_on_image(f, labels, params);
     const auto [share, instance] = majority(f, s, 2);
     EXPECT_GT(share, 0.95) << flat;
     ASSERT_NE(instance, 0u) << flat;

@@ -92,6 +92,7 @@ void bind_segment(py::module_& m) {
           d["paper"] = row.paper;
           d["flag"] = row.flag.empty() ? "" : "--" + row.flag;
           d["choices"] = row.choices;
+          d["old_key"] = row.old_key;
           rows.append(d);
         }
         return rows;

@@ -51,7 +51,7 @@ def test_result_describes_the_candidates():
         np.testing.assert_allclose(c.box.axes.T @ c.box.axes, np.eye(3), atol=1e-9)
         assert np.all(c.box.extent > 0)
     assert not any(c.background for c in r.candidates)
-    assert set(r.times_ms) >= {"grid_surfaces", "selection", "total"}
+    assert set(r.times_ms) >= {"image_surfaces", "selection", "total"}
     assert r.report["proxseg"]["version"] == proxseg.__version__
 
 
@@ -102,6 +102,28 @@ def test_parameters_by_preset_dict_object_and_name():
     assert np.array_equal(by_object.labels, by_name.labels)
     off = proxseg.segment(frame, mrf={"enabled": False})
     assert off.params.mrf.enabled is False and np.array_equal(off.labels, off.labels_kmeans)
+
+
+def test_selection_sections_nest_and_old_names_warn():
+    p = proxseg.SegmentParams(selection={"normal_step": 5, "occlusion": {"window": 60}})
+    assert p.selection.image.normal_step == 5 and p.selection.occlusion.window == 60
+    assert p.to_dict()["selection"]["containers"]["enabled"] is True
+    with pytest.warns(DeprecationWarning, match="selection.join_occluded is now "
+                                                "selection.occlusion.enabled"):
+        old = proxseg.SegmentParams(selection={"join_occluded": False})
+    assert old.selection.occlusion.enabled is False
+    with pytest.warns(DeprecationWarning, match="image_normal_step is now"):
+        old = proxseg.SegmentParams(image_normal_step=3)
+    assert old.selection.image.normal_step == 3
+    with pytest.warns(DeprecationWarning, match="selection.container_min_depth is now"):
+        old.selection.container_min_depth = 0.05
+    assert old.selection.containers.min_depth == 0.05
+    with pytest.raises(ValueError, match="in several sections"):
+        proxseg.SegmentParams(enabled=False)
+    with pytest.raises(AttributeError, match="no such parameter"):
+        old.selection.image_normal_stepp = 1
+    rows = {r["key"]: r for r in proxseg.parameters()}
+    assert rows["selection.image.normal_step"]["old_key"] == "selection.image_normal_step"
 
 
 def test_colourless_clouds_run_without_colour_and_texture():

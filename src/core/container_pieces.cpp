@@ -36,7 +36,7 @@ double percentile(std::vector<double> v, double q) {
 
 // Least-squares circle through the footprint (Kasa's algebraic fit): x^2 + y^2 = 2ax + 2by + c.
 // Round when the radius is plausible for a container and the points lie on the circle within
-// container_circle_rms of the radius (a box's footprint, two lines, does not).
+// containers.circle_rms of the radius (a box's footprint, two lines, does not).
 void fit_circle(Piece& s, const SelectionParams& params) {
   const std::size_t n = s.footprint.size();
   if (n < 3) return;
@@ -63,16 +63,16 @@ void fit_circle(Piece& s, const SelectionParams& params) {
     sq += e * e;
   }
   const double rms = std::sqrt(sq / static_cast<double>(n));
-  s.round = s.radius >= params.container_min_radius && s.radius <= params.container_max_radius &&
-            rms <= params.container_circle_rms * s.radius;
+  s.round = s.radius >= params.containers.min_radius && s.radius <= params.containers.max_radius &&
+            rms <= params.containers.circle_rms * s.radius;
 }
 
 // Whether `inner` is the inside of the container `outer`: its footprint within the circle (all
 // but a few stray pixels), no higher than the rim and reaching below it.
 bool inside_of(const Piece& inner, const Piece& outer, const SelectionParams& params) {
-  const double tol = params.container_rim_tolerance;
+  const double tol = params.containers.rim_tolerance;
   if (!outer.round || inner.top > outer.top + tol ||
-      inner.bottom > outer.top - params.container_min_depth)
+      inner.bottom > outer.top - params.containers.min_depth)
     return false;
   std::size_t in = 0;
   for (const auto& x : inner.footprint) in += (x - outer.centre).norm() <= outer.radius + tol;
@@ -128,7 +128,7 @@ void join_container_pieces(const ImageGrid& g, const Plane& support, const Selec
   std::vector<int> containers;
   for (int c = 0; c < count; ++c)
     if (container[c]) containers.push_back(c);
-  const double tol = params.container_rim_tolerance;
+  const double tol = params.containers.rim_tolerance;
   auto within = [&](int p, double reach) {
     const Eigen::Vector2d x(e1.dot(f.xyz[p]), e2.dot(f.xyz[p]));
     const double h = support.distance(f.xyz[p]);

@@ -14,7 +14,7 @@ namespace proxseg::detail {
 // comp: per pixel a component id 0..count-1, kPlane or kNone; support: the support plane (its
 // normal towards the sensor). A component whose footprint on the plane lies inside the circle
 // fitted to a round component's footprint, which reaches no higher than that component's rim and
-// goes at least container_min_depth below it, joins it (SelectionParams::join_containers): comp
+// goes at least containers.min_depth below it, joins it (SelectionParams::containers): comp
 // takes one id per joined set.
 void join_container_pieces(const ImageGrid& g, const Plane& support, const SelectionParams& params,
                            int count, std::vector<int>& comp);

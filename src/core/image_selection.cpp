@@ -118,8 +118,9 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
   const Frame& f = g.frame;
   const float cos_tol =
       static_cast<float>(std::cos(detail::radians(params.support_normal_tolerance_deg)));
-  const float k = static_cast<float>(params.plane_band_sigmas * params.sensor_noise_at_1m);
-  const float band_min = static_cast<float>(params.plane_band_min);
+  const float k =
+      static_cast<float>(params.image.plane_band_sigmas * params.image.sensor_noise_at_1m);
+  const float band_min = static_cast<float>(params.image.plane_band_min);
   auto inlier = [&](const Plane& pl, int p) {
     const float z = g.z(p);
     if (std::abs(pl.distance(f.xyz[p])) > std::max(band_min, k * z * z)) return false;
@@ -168,8 +169,9 @@ SupportPlane support_plane(const ImageGrid& g, const std::vector<Eigen::Vector3f
 std::vector<char> concave_pixels(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
                                  const SelectionParams& params) {
   const Frame& f = g.frame;
-  const int s = params.concavity_step;
-  const float cos_tol = static_cast<float>(std::cos(detail::radians(params.crease_tolerance_deg)));
+  const int s = params.image.concavity_step;
+  const float cos_tol =
+      static_cast<float>(std::cos(detail::radians(params.image.crease_tolerance_deg)));
   std::vector<char> concave(f.size(), 0);
   static constexpr int kDirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   detail::parallel_for(g.h(), g.threads, [&](int v) {
@@ -240,14 +242,14 @@ void fill(const ImageGrid& g, std::vector<int>& comp) {
 }
 
 // Links between components that meet the way the parts of one surface do, across what the
-// components could not bridge. Two kinds: pixel pairs at most merge_window pixels apart whose
+// components could not bridge. Two kinds: pixel pairs at most image.merge_window pixels apart whose
 // points lie within cluster_tolerance (a short depth step, a speck of missing pixels), and rays
-// across a band of missing pixels (a mug's rim that the camera lost) of at most bridge_window
-// pixels whose ends lie within bridge_tolerance. A link is concave when it starts or ends on a
-// crease pixel or its normals fail LCCP's convexity test; it agrees when both ends have the same
+// across a band of missing pixels (a mug's rim that the camera lost) of at most image.bridge_window
+// pixels whose ends lie within image.bridge_tolerance. A link is concave when it starts or ends on
+// a crease pixel or its normals fail LCCP's convexity test; it agrees when both ends have the same
 // segmentation label (colour and texture [3.1-3.2]). Two components merge when they have at
-// least merge_min_links links, at most merge_max_concave_share of them concave and at least
-// merge_min_agreement of them agreeing. The plane takes no part.
+// least image.merge_min_links links, at most merge_max_concave_share of them concave and at least
+// image.merge_min_agreement of them agreeing. The plane takes no part.
 struct LinkCount {
   int links = 0, concave = 0, agree = 0;  // window links
   int bridges = 0;                        // rays across missing pixels
@@ -269,7 +271,7 @@ bool on_plane(const Frame& f, const SupportPlane& support, const std::vector<int
 // joins it.
 bool plane_piece(const Frame& f, const SupportPlane& support, const std::vector<int>& points,
                  const LinkCount& to_plane, const SelectionParams& params) {
-  return to_plane.links >= params.merge_min_links &&
+  return to_plane.links >= params.image.merge_min_links &&
          to_plane.concave <= params.merge_max_concave_share * to_plane.links &&
          on_plane(f, support, points, params);
 }
@@ -290,9 +292,9 @@ void join_linked(const Frame& f, const SupportPlane& support, const SelectionPar
     if (pair.second == kPlane)
       to_plane[pair.first] = plane_piece(f, support, points[pair.first], e, params);
   for (const auto& [pair, e] : links)
-    if (pair.second != kPlane && e.links >= params.merge_min_links &&
+    if (pair.second != kPlane && e.links >= params.image.merge_min_links &&
         e.concave <= params.merge_max_concave_share * e.links &&
-        e.agree >= params.merge_min_agreement * e.links)
+        e.agree >= params.image.merge_min_agreement * e.links)
       sets.unite(pair.first, pair.second);
   // An island in missing data (most of its border beside missing pixels: the inside of a mug
   // whose rim the camera lost all round) joins the component it has the most rays to.
@@ -303,8 +305,8 @@ void join_linked(const Frame& f, const SupportPlane& support, const SelectionPar
         if (e.bridges > best_bridge[x].first) best_bridge[x] = {e.bridges, y};
   for (int c = 0; c < count; ++c)
     if (border_pixels[c] > 0 &&
-        beside_missing[c] >= params.island_missing_share * border_pixels[c] &&
-        best_bridge[c].first >= params.merge_min_links)
+        beside_missing[c] >= params.image.island_missing_share * border_pixels[c] &&
+        best_bridge[c].first >= params.image.merge_min_links)
       sets.unite(c, best_bridge[c].second);
   for (int& c : comp)
     if (c >= 0) c = to_plane[c] ? kPlane : sets.find(c);
@@ -315,7 +317,8 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
                         const std::vector<std::uint32_t>& point_labels,
                         const SelectionParams& params, int count, std::vector<int>& comp) {
   const Frame& f = g.frame;
-  const float cos_tol = static_cast<float>(std::cos(detail::radians(params.crease_tolerance_deg)));
+  const float cos_tol =
+      static_cast<float>(std::cos(detail::radians(params.image.crease_tolerance_deg)));
   std::map<std::pair<int, int>, LinkCount> links;
   auto bridge_link = [&](int p, int q) {
     ++links[{std::min(comp[p], comp[q]), std::max(comp[p], comp[q])}].bridges;
@@ -340,9 +343,10 @@ void merge_convex_links(const ImageGrid& g, const std::vector<Eigen::Vector3f>& 
       if (q < 0 || comp[q] != comp[p]) return true;
     return false;
   };
-  const int win = params.merge_window, bridge = params.bridge_window;
+  const int win = params.image.merge_window, bridge = params.image.bridge_window;
   const float t2 = static_cast<float>(params.cluster_tolerance * params.cluster_tolerance);
-  const float b2 = static_cast<float>(params.bridge_tolerance * params.bridge_tolerance);
+  const float b2 =
+      static_cast<float>(params.image.bridge_tolerance * params.image.bridge_tolerance);
   static constexpr int kRays[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};  // later pixels
   // Per component: border pixels, and those of them beside a missing pixel.
   std::vector<int> border_pixels(count, 0), beside_missing(count, 0);
@@ -428,15 +432,16 @@ void absorb_small(const ImageGrid& g, const SupportPlane& support, const Selecti
     if (c >= 0 && small(size[c])) c = kNone;
 }
 
-// Pixels of a component that lie within plane_flat_sigmas of the sensor's noise of the support
-// plane go to the plane. The normals of the table beside an object are bent by it over
-// image_normal_step pixels, so that ring fails the plane's normal test and joins the object: as
+// Pixels of a component that lie within image.plane_flat_sigmas of the sensor's noise of the
+// support plane go to the plane. The normals of the table beside an object are bent by it over
+// image.normal_step pixels, so that ring fails the plane's normal test and joins the object: as
 // many table pixels as pen pixels around a pen lying on the table (IoU under 0.5). The structure
 // (links, plane pieces, small pieces) was decided with the ring; only the instances lose it.
 void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const SelectionParams& params,
                     std::vector<int>& comp) {
-  if (!support.found || params.plane_flat_sigmas <= 0) return;
-  const float k = static_cast<float>(params.plane_flat_sigmas * params.sensor_noise_at_1m);
+  if (!support.found || params.image.plane_flat_sigmas <= 0) return;
+  const float k =
+      static_cast<float>(params.image.plane_flat_sigmas * params.image.sensor_noise_at_1m);
   detail::parallel_for(static_cast<int>(comp.size()), g.threads, [&](int p) {
     if (comp[p] < 0 || !g.valid(p)) return;
     const float z = g.z(p);
@@ -446,16 +451,17 @@ void trim_flat_base(const ImageGrid& g, const SupportPlane& support, const Selec
 
 }  // namespace
 
-GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
-                           const SelectionParams& params, int threads) {
-  if (!frame.organized()) throw std::invalid_argument("grid_surfaces: unorganized frame");
+ImageSurfaces image_surfaces(const Frame& frame, const std::vector<char>& labelled,
+                             const SelectionParams& params, int threads) {
+  if (!frame.organized()) throw std::invalid_argument("image_surfaces: unorganized frame");
   const int nthreads = detail::thread_count(threads);
   detail::Stopwatch watch;
-  const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
-  GridSurfaces out;
+  const ImageGrid grid(frame, static_cast<float>(params.image.depth_step_ratio), nthreads);
+  ImageSurfaces out;
   FeatureParams normal_params;
-  normal_params.normal_step = params.image_normal_step;
-  if (params.edge_aware_normals) normal_params.normal_edge_ratio = params.depth_step_ratio;
+  normal_params.normal_step = params.image.normal_step;
+  if (params.image.edge_aware_normals)
+    normal_params.normal_edge_ratio = params.image.depth_step_ratio;
   out.normals = point_normals(frame, normal_params, nthreads);
   out.steps_ms.emplace_back("normals", watch.lap());
 
@@ -487,20 +493,20 @@ GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled
   return out;
 }
 
-Selection select_candidates_on_grid(const Frame& frame,
-                                    const std::vector<std::uint32_t>& point_labels,
-                                    const SelectionParams& params, int threads) {
+Selection select_candidates_on_image(const Frame& frame,
+                                     const std::vector<std::uint32_t>& point_labels,
+                                     const SelectionParams& params, int threads) {
   std::vector<char> labelled(frame.size(), 0);
   for (std::size_t p = 0; p < frame.size(); ++p) labelled[p] = point_labels[p] != 0;
-  return select_on_grid(frame, grid_surfaces(frame, labelled, params, threads), point_labels,
-                        params, threads);
+  return select_on_image(frame, image_surfaces(frame, labelled, params, threads), point_labels,
+                         params, threads);
 }
 
-Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
-                         const std::vector<std::uint32_t>& point_labels,
-                         const SelectionParams& params, int threads) {
+Selection select_on_image(const Frame& frame, ImageSurfaces surfaces,
+                          const std::vector<std::uint32_t>& point_labels,
+                          const SelectionParams& params, int threads) {
   const int nthreads = detail::thread_count(threads);
-  const ImageGrid grid(frame, static_cast<float>(params.depth_step_ratio), nthreads);
+  const ImageGrid grid(frame, static_cast<float>(params.image.depth_step_ratio), nthreads);
   SupportPlane support;
   support.found = surfaces.plane_found;
   support.plane = {surfaces.plane_normal, surfaces.plane_offset};
@@ -511,18 +517,18 @@ Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
   s.instance.assign(frame.size(), 0);
   s.clusters = count;
   detail::Stopwatch watch;
-  if (params.merge_links)
+  if (params.image.merge_links)
     merge_convex_links(grid, surfaces.normals, surfaces.crease, support, point_labels, params,
                        count, comp);
   s.steps_ms.emplace_back("convex_merge", watch.lap());
   if (params.absorb_small) absorb_small(grid, support, params, count, true, comp);
   s.steps_ms.emplace_back("small_pieces", watch.lap());
-  if (params.join_occluded)
+  if (params.occlusion.enabled)
     detail::join_occluded_pieces(grid, surfaces.normals, params, count, comp);
   s.steps_ms.emplace_back("occlusion_join", watch.lap());
   trim_flat_base(grid, support, params, comp);
   s.steps_ms.emplace_back("ring_trim", watch.lap());
-  if (params.join_containers && support.found)
+  if (params.containers.enabled && support.found)
     detail::join_container_pieces(grid, support.plane, params, count, comp);
   s.steps_ms.emplace_back("container_join", watch.lap());
 

@@ -15,16 +15,16 @@ namespace proxseg {
 // support plane within the sensor's noise, then connected components of the remaining pixels
 // that no depth step or concave crease separates; small pieces join their main neighbour.
 // point_labels as for select_candidates. threads: 0 = all cores; the result does not depend on it.
-Selection select_candidates_on_grid(const Frame& frame,
-                                    const std::vector<std::uint32_t>& point_labels,
-                                    const SelectionParams& params, int threads = 0);
+Selection select_candidates_on_image(const Frame& frame,
+                                     const std::vector<std::uint32_t>& point_labels,
+                                     const SelectionParams& params, int threads = 0);
 
 // The same in two steps. The geometry needs only the frame, so segment() reads it while the
-// colour labels are computed: grid_surfaces() finds the normals, the support plane, the creases
-// and the surfaces (small pieces joined to their neighbour); select_on_grid() merges the
-// surfaces where the labels agree and forms the instances. select_candidates_on_grid() is
-// grid_surfaces() with labelled = (point_labels != 0), then select_on_grid().
-struct GridSurfaces {
+// colour labels are computed: image_surfaces() finds the normals, the support plane, the creases
+// and the surfaces (small pieces joined to their neighbour); select_on_image() merges the
+// surfaces where the labels agree and forms the instances. select_candidates_on_image() is
+// image_surfaces() with labelled = (point_labels != 0), then select_on_image().
+struct ImageSurfaces {
   std::vector<Eigen::Vector3f> normals;                     // per pixel, NaN where none
   bool plane_found = false;                                 // whether a support plane was found
   Eigen::Vector3f plane_normal = Eigen::Vector3f::UnitZ();  // plane: normal . x + offset = 0
@@ -33,14 +33,14 @@ struct GridSurfaces {
   std::vector<char> crease;    // per pixel: on a concave crease
   std::vector<int> surface;    // per pixel: surface id 0..count-1, -2 the plane, -1 none
   int count = 0;               // surfaces (connected components before any joining)
-  // Wall time of each step inside grid_surfaces(), in order (normals, support plane, ...).
+  // Wall time of each step inside image_surfaces(), in order (normals, support plane, ...).
   std::vector<std::pair<std::string, double>> steps_ms;
 };
 // labelled: per pixel, whether it takes part (valid and labelled).
-GridSurfaces grid_surfaces(const Frame& frame, const std::vector<char>& labelled,
-                           const SelectionParams& params, int threads = 0);
-Selection select_on_grid(const Frame& frame, GridSurfaces surfaces,
-                         const std::vector<std::uint32_t>& point_labels,
-                         const SelectionParams& params, int threads = 0);
+ImageSurfaces image_surfaces(const Frame& frame, const std::vector<char>& labelled,
+                             const SelectionParams& params, int threads = 0);
+Selection select_on_image(const Frame& frame, ImageSurfaces surfaces,
+                          const std::vector<std::uint32_t>& point_labels,
+                          const SelectionParams& params, int threads = 0);
 
 }  // namespace proxseg

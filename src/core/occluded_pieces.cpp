@@ -58,14 +58,14 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
                           const SelectionParams& params, int count, std::vector<int>& comp) {
   const Frame& f = g.frame;
   const float cos_tol =
-      static_cast<float>(std::cos(detail::radians(params.occlusion_normal_tolerance_deg)));
-  const float tol = static_cast<float>(params.occlusion_surface_tolerance);
-  const float noise = static_cast<float>(3 * params.sensor_noise_at_1m);
+      static_cast<float>(std::cos(detail::radians(params.occlusion.normal_tolerance_deg)));
+  const float tol = static_cast<float>(params.occlusion.surface_tolerance);
+  const float noise = static_cast<float>(3 * params.image.sensor_noise_at_1m);
   static constexpr int kRays[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};  // later pixels
   // How the ends p and q continue one surface, if they do.
   auto continues = [&](int p, int q, int du, int dv) {
-    const int a = inside(g, normals, comp, p, -du, -dv, params.image_normal_step);
-    const int b = inside(g, normals, comp, q, du, dv, params.image_normal_step);
+    const int a = inside(g, normals, comp, p, -du, -dv, params.image.normal_step);
+    const int b = inside(g, normals, comp, q, du, dv, params.image.normal_step);
     const Eigen::Vector3f &na = normals[a], &nb = normals[b];
     const Eigen::Vector3f gap = f.xyz[q] - f.xyz[p];
     const float allowed = tol + 0.05f * gap.norm();
@@ -87,7 +87,7 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
       for (const auto& d : kRays) {
         int passed = 0;   // valid pixels of an occluder crossed
         float front = 0;  // the farthest of them
-        for (int k = 1; k <= params.occlusion_window; ++k) {
+        for (int k = 1; k <= params.occlusion.window; ++k) {
           const int uq = u + k * d[0], vq = v + k * d[1];
           if (uq < 0 || uq >= g.w() || vq >= g.h()) break;
           const int q = vq * g.w() + uq;
@@ -117,10 +117,10 @@ void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>
     const double alike =
         colour.empty() ? 1.0 : colour[pair.first].cwiseMin(colour[pair.second]).sum();
     const bool face =
-        c.flat >= params.occlusion_min_face_rays && alike >= params.occlusion_min_face_colour;
-    const bool body = c.good >= params.occlusion_min_rays &&
-                      c.good >= params.occlusion_min_share * c.rays &&
-                      alike >= params.occlusion_min_colour;
+        c.flat >= params.occlusion.min_face_rays && alike >= params.occlusion.min_face_colour;
+    const bool body = c.good >= params.occlusion.min_rays &&
+                      c.good >= params.occlusion.min_share * c.rays &&
+                      alike >= params.occlusion.min_colour;
     if (!face && !body) continue;
     sets.unite(pair.first, pair.second);
     joined = true;

@@ -11,7 +11,7 @@
 namespace proxseg::detail {
 
 // comp: per pixel a component id 0..count-1, kPlane or kNone. Components that the rule of
-// SelectionParams::join_occluded pairs are joined: comp takes one id per joined set (the
+// SelectionParams::occlusion pairs are joined: comp takes one id per joined set (the
 // union-find's representative). On a colourless frame the colour tests pass.
 void join_occluded_pieces(const ImageGrid& g, const std::vector<Eigen::Vector3f>& normals,
                           const SelectionParams& params, int count, std::vector<int>& comp);

@@ -1,8 +1,10 @@
-// The parameter table (parameters.hpp) made from its rows (parameter_rows.hpp): the rows with
-// their types, defaults and the paper's values, reading and setting a parameter by key, parsing
-// and formatting values, ranges and the nearest name for a mistyped key.
+// The parameter table (parameters.hpp) made from its rows (parameter_rows.txt) and the members
+// they name (parameter_members.hpp): the rows with their types, defaults and the paper's values,
+// reading and setting a parameter by key, parsing and formatting values, ranges and the nearest
+// name for a mistyped key.
 #include <proxseg/core/parameters.hpp>
 
+#include "parameter_members.hpp"
 #include "parameter_rows.hpp"
 
 #include <algorithm>
@@ -12,15 +14,13 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <type_traits>
 
 namespace proxseg {
 namespace {
 
-using detail::Names;
-using detail::recognition_fields;
-using detail::Row;
-using detail::segment_fields;
+using detail::value_names;
 
 template <class T>
 constexpr bool kIsEnum = std::is_enum_v<T>;
@@ -37,7 +37,7 @@ ParamType type_of() {
 template <class T>
 ParamValue value_of(const T& v) {
   if constexpr (kIsEnum<T>)
-    return std::string(Names<T>::v[static_cast<int>(v)]);
+    return value_names(v)[static_cast<int>(v)];
   else
     return v;
 }
@@ -104,78 +104,111 @@ void assign(const Parameter& row, T& out, const ParamValue& value) {
   } else {
     const std::string* s = std::get_if<std::string>(&value);
     if (!s) wrong_value(row, value);
-    const auto& names = Names<T>::v;
-    const auto* it =
-        std::find_if(std::begin(names), std::end(names), [&](const char* n) { return *s == n; });
-    if (it == std::end(names)) wrong_value(row, value);
-    out = static_cast<T>(it - std::begin(names));
+    const std::vector<std::string> names = value_names(T{});
+    const auto it = std::find(names.begin(), names.end(), *s);
+    if (it == names.end()) wrong_value(row, value);
+    out = static_cast<T>(it - names.begin());
   }
 }
 
-// The rows of fields(params), with type and default from params and the paper's value from
-// paper (when given).
-template <class P, class Fields>
-std::vector<Parameter> make_table(Fields fields, const P* paper) {
-  std::vector<Parameter> table;
-  P defaults{};
-  fields(defaults, [&](const Row& r, const auto& value) {
+// A table: its rows, and for each the index of its member in for_each_parameter's order.
+struct Table {
+  std::vector<Parameter> rows;
+  std::vector<std::size_t> member;
+};
+
+// Per member of P in for_each_parameter's order: type, choices and value in params.
+template <class P>
+std::vector<Parameter> describe_members(const P& params) {
+  std::vector<Parameter> members;
+  auto describe = [&](const auto& value) {
     using T = std::decay_t<decltype(value)>;
-    Parameter row;
-    row.section = r.section;
-    row.name = r.name;
+    Parameter& row = members.emplace_back();
     row.type = type_of<T>();
-    if constexpr (kIsEnum<T>) row.choices.assign(std::begin(Names<T>::v), std::end(Names<T>::v));
-    row.min = r.min;
-    row.max = r.max;
-    row.min_open = r.min_open;
-    row.max_open = r.max_open;
-    row.zero_off = r.zero_off;
-    if constexpr (std::is_same_v<T, std::uint64_t>) row.min = 0;
-    row.unit = r.unit;
-    row.help = r.help;
-    row.flag = r.flag;
-    if (*r.alias) row.aliases.push_back(r.alias);
+    if constexpr (kIsEnum<T>) row.choices = value_names(value);
     row.default_value = value_of(value);
-    row.paper = r.paper;
-    table.push_back(std::move(row));
-  });
-  if (paper) {
-    std::size_t i = 0;
-    P copy = *paper;
-    fields(copy, [&](const Row& r, const auto& value) {
-      if (r.paper_preset) table[i].paper = format_parameter(value_of(value));
-      ++i;
-    });
+  };
+  detail::for_each_parameter(params, describe);
+  return members;
+}
+
+// A row of the text (parameter_rows.txt) with the type, choices and default of its member, and
+// the paper's value from the paper preset where the text says "preset".
+Parameter joined_row(Parameter row, const Parameter& member, const Parameter* paper) {
+  row.type = member.type;
+  row.choices = member.choices;
+  row.default_value = member.default_value;
+  if (row.type == ParamType::kUnsigned) row.min = 0;
+  if (row.paper == "preset") row.paper = paper ? format_parameter(paper->default_value) : "";
+  return row;
+}
+
+// The rows of parameter_rows.txt's table `which`, joined to the members of P by key; every
+// member must have one row. paper: the paper preset, for the rows whose paper value it is.
+template <class P>
+Table make_table(const std::string& which, const P* paper) {
+  std::vector<std::string> keys;
+  detail::add_member_keys<P>("", keys);
+  const std::vector<Parameter> members = describe_members(P{});
+  const std::vector<Parameter> paper_members = paper ? describe_members(*paper) : members;
+  Table table;
+  for (const Parameter& text : detail::table_rows(which)) {
+    const std::size_t m = std::find(keys.begin(), keys.end(), text.key()) - keys.begin();
+    if (m == keys.size())
+      throw std::logic_error("parameter_rows.txt: " + text.key() + " is no member of " + which);
+    if (std::find(table.member.begin(), table.member.end(), m) != table.member.end())
+      throw std::logic_error("parameter_rows.txt: " + text.key() + " has two rows");
+    table.rows.push_back(joined_row(text, members[m], paper ? &paper_members[m] : nullptr));
+    table.member.push_back(m);
   }
+  if (table.rows.size() != keys.size())
+    for (std::size_t m = 0; m < keys.size(); ++m)
+      if (std::find(table.member.begin(), table.member.end(), m) == table.member.end())
+        throw std::logic_error("parameter_rows.txt: no row for " + keys[m] + " (" + which + ")");
   return table;
 }
 
-const auto kSegmentFields = [](auto& p, auto&& f) { segment_fields(p, f); };
-const auto kRecognitionFields = [](auto& p, auto&& f) { recognition_fields(p, f); };
-
-std::pair<std::string, std::string> split_key(const Parameter& row) {
-  return {row.section, row.name};
+const Table& segment_table() {
+  static const Table table = [] {
+    const SegmentParams paper = preset("paper");
+    return make_table<SegmentParams>("segmentation", &paper);
+  }();
+  return table;
 }
 
-template <class P, class Fields>
-ParamValue get_with(const std::vector<Parameter>& table, const P& params, const std::string& key,
-                    Fields fields) {
-  const auto [section, name] = split_key(require_parameter(table, key));
+const Table& recognition_table() {
+  static const Table table = make_table<RecognitionParams>("recognition", nullptr);
+  return table;
+}
+
+// The value of key's member in params.
+template <class P>
+ParamValue get_with(const Table& table, const P& params, const std::string& key) {
+  const Parameter& row = require_parameter(table.rows, key);
+  const std::size_t target = table.member[&row - table.rows.data()];
   ParamValue out;
-  P& p = const_cast<P&>(params);  // fields() takes members by reference; nothing is written
-  fields(p, [&](const Row& r, const auto& value) {
-    if (r.is(section.c_str(), name.c_str())) out = value_of(value);
-  });
+  std::size_t i = 0;
+  auto read = [&](const auto& member) {
+    if (i++ == target) out = value_of(member);
+  };
+  detail::for_each_parameter(params, read);
   return out;
 }
 
-template <class P, class Fields>
-void set_with(const std::vector<Parameter>& table, P& params, const std::string& key,
-              const ParamValue& value, Fields fields) {
-  const Parameter& row = require_parameter(table, key);
-  fields(params, [&](const Row& r, auto& member) {
-    if (r.is(row.section.c_str(), row.name.c_str())) assign(row, member, value);
-  });
+template <class P>
+void set_with(const Table& table, P& params, const std::string& key, const ParamValue& value) {
+  const Parameter& row = require_parameter(table.rows, key);
+  const std::size_t target = table.member[&row - table.rows.data()];
+  std::size_t i = 0;
+  auto write = [&](auto& member) {
+    if (i++ == target) assign(row, member, value);
+  };
+  detail::for_each_parameter(params, write);
+}
+
+// The name part of the row's old key ("image_normal_step"); "" when it has none.
+std::string old_name(const Parameter& row) {
+  return row.old_key.empty() ? "" : row.old_key.substr(row.old_key.rfind('.') + 1);
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -232,27 +265,26 @@ std::string Parameter::range_text() const {
 }
 
 const std::vector<Parameter>& segment_parameters() {
-  static const std::vector<Parameter> table = [] {
-    const SegmentParams paper = preset("paper");
-    return make_table<SegmentParams>(kSegmentFields, &paper);
-  }();
-  return table;
+  return segment_table().rows;
 }
 
 const std::vector<Parameter>& recognition_parameters() {
-  static const std::vector<Parameter> table =
-      make_table<RecognitionParams>(kRecognitionFields, nullptr);
-  return table;
+  return recognition_table().rows;
 }
 
 const Parameter* find_parameter(const std::vector<Parameter>& table, const std::string& key) {
   const Parameter* bare = nullptr;
   int bare_count = 0;
   for (const Parameter& row : table) {
-    if (row.key() == key) return &row;
-    if (row.name == key) bare = &row, ++bare_count;
+    if (row.key() == key || (!row.old_key.empty() && row.old_key == key)) return &row;
+    if (row.name == key || old_name(row) == key) bare = &row, ++bare_count;
   }
   return bare_count == 1 ? bare : nullptr;
+}
+
+std::string renamed_note(const Parameter& row, const std::string& key) {
+  if (row.old_key.empty() || (key != row.old_key && key != old_name(row))) return "";
+  return key + " is now " + row.key() + " (the old key will be removed)";
 }
 
 const Parameter& require_parameter(const std::vector<Parameter>& table, const std::string& key) {
@@ -279,16 +311,16 @@ std::string nearest_parameter(const std::vector<Parameter>& table, const std::st
 }
 
 ParamValue get_parameter(const SegmentParams& params, const std::string& key) {
-  return get_with(segment_parameters(), params, key, kSegmentFields);
+  return get_with(segment_table(), params, key);
 }
 ParamValue get_parameter(const RecognitionParams& params, const std::string& key) {
-  return get_with(recognition_parameters(), params, key, kRecognitionFields);
+  return get_with(recognition_table(), params, key);
 }
 void set_parameter(SegmentParams& params, const std::string& key, const ParamValue& value) {
-  set_with(segment_parameters(), params, key, value, kSegmentFields);
+  set_with(segment_table(), params, key, value);
 }
 void set_parameter(RecognitionParams& params, const std::string& key, const ParamValue& value) {
-  set_with(recognition_parameters(), params, key, value, kRecognitionFields);
+  set_with(recognition_table(), params, key, value);
 }
 
 std::string format_parameter(const ParamValue& value) {

@@ -23,12 +23,12 @@ SegmentParams preset(const std::string& name) {
     // Section 3.3 as written: same-label clusters split at weak links, kept by size; none of the
     // convexity, support-plane or small-fragment extensions.
     p.selection.split_concave = false;
-    p.selection.merge_convex = false;
+    p.selection.voxels.merge_convex = false;
     p.selection.cut_support_plane = false;
     p.selection.absorb_small = false;
     p.selection.geometry = SelectionParams::Geometry::kVoxels;
-    p.selection.join_occluded = false;
-    p.selection.join_containers = false;
+    p.selection.occlusion.enabled = false;
+    p.selection.containers.enabled = false;
     p.selection.min_candidate_points = 500;  // the threshold this preset has always used
     p.paper_labels = true;
     return p;
@@ -54,12 +54,12 @@ void check_ranges(const P& p, const std::vector<Parameter>& table) {
 void validate(const SegmentParams& p) {
   check_ranges(p, segment_parameters());
   const SelectionParams& sp = p.selection;
-  if (sp.container_max_radius < sp.container_min_radius)
+  if (sp.containers.max_radius < sp.containers.min_radius)
     throw InputError(
-        "field selection.container_max_radius: expected >= "
-        "selection.container_min_radius (" +
-        format_parameter(sp.container_min_radius) + "), got " +
-        format_parameter(sp.container_max_radius));
+        "field selection.containers.max_radius: expected >= "
+        "selection.containers.min_radius (" +
+        format_parameter(sp.containers.min_radius) + "), got " +
+        format_parameter(sp.containers.max_radius));
 }
 
 void validate(const RecognitionParams& p) {

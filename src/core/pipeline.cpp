@@ -142,7 +142,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
     KMeansResult km = kmeans(x, start, params.kmeans);
     r.centroids = km.centroids;
     r.labels_kmeans = km.labels;
-    r.kmeans_iterations = km.iterations;
+    r.kmeans_iterations_run = km.iterations;
     r.times_ms.emplace_back("kmeans", watch.lap());
 
     // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
@@ -156,7 +156,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
                                 : alpha_expansion(problem, r.labels, params.mrf.max_cycles);
       r.labels = mrf.labels;
       r.energy_after = mrf.energy_after;
-      r.mrf_cycles = mrf.cycles;
+      r.mrf_cycles_run = mrf.cycles;
     }
     r.times_ms.emplace_back("mrf", watch.lap());
 
@@ -181,7 +181,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
 
 // Without the paper's labels the image-grid surfaces are the labels the selection starts from:
 // surface i is label i + 1, the support plane count + 1; points outside `within` have none.
-void surface_labels(const GridSurfaces& surfaces, const std::vector<char>& within,
+void surface_labels(const ImageSurfaces& surfaces, const std::vector<char>& within,
                     SegmentResult& r) {
   const auto plane = static_cast<std::uint32_t>(surfaces.count + 1);
   r.point_labels.assign(surfaces.surface.size(), 0);
@@ -198,7 +198,7 @@ void surface_labels(const GridSurfaces& surfaces, const std::vector<char>& withi
 
 bool needs_paper_labels(const SegmentParams& params, const Frame& frame) {
   return params.paper_labels || !on_image_grid(params, frame) ||
-         (params.selection.merge_links && params.selection.merge_min_agreement > 0);
+         (params.selection.image.merge_links && params.selection.image.merge_min_agreement > 0);
 }
 
 double segment_memory_mib(const Frame& frame, const SegmentParams& params) {
@@ -235,21 +235,21 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
 
   // The image-grid geometry of the selection (7) needs only the frame: normals, support plane,
   // creases, surfaces.
-  GridSurfaces surfaces;
+  ImageSurfaces surfaces;
   double surfaces_ms = 0;
   auto read_geometry = [&](const std::vector<char>& labelled, int threads) {
     detail::Stopwatch own;
-    surfaces = grid_surfaces(frame, labelled, params.selection, threads);
+    surfaces = image_surfaces(frame, labelled, params.selection, threads);
     surfaces_ms = own.lap();
     for (const auto& [step, ms] : surfaces.steps_ms)
-      r.steps_ms.emplace_back("grid_surfaces/" + step, ms);
+      r.steps_ms.emplace_back("image_surfaces/" + step, ms);
   };
   if (r.paper_labels) {
     // 1-6: the paper's labels, with the geometry on a second thread beside stages 3-6.
     std::function<void(const std::vector<char>&)> beside;
     if (on_grid) beside = [&](const std::vector<char>& labelled) { read_geometry(labelled, 1); };
     paper_labels(frame, params, beside, r);
-    if (on_grid) r.concurrent_ms.emplace_back("grid_surfaces", surfaces_ms);
+    if (on_grid) r.concurrent_ms.emplace_back("image_surfaces", surfaces_ms);
   } else {
     // Without them: the geometry on every thread, its surfaces as the labels. Points too far
     // out to voxelise are left out as on the paper's path.
@@ -259,14 +259,14 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
     if (r.voxels.voxelised_points == 0) throw InputError("frame: no valid points to segment");
     read_geometry(within, params.threads);
     surface_labels(surfaces, within, r);
-    r.times_ms.emplace_back("grid_surfaces", surfaces_ms);
+    r.times_ms.emplace_back("image_surfaces", surfaces_ms);
   }
 
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
   detail::Stopwatch watch;
-  r.selection = on_grid ? select_on_grid(frame, std::move(surfaces), r.point_labels,
-                                         params.selection, params.threads)
+  r.selection = on_grid ? select_on_image(frame, std::move(surfaces), r.point_labels,
+                                          params.selection, params.threads)
                         : select_candidates(frame, r.voxels, r.point_labels, params.selection,
                                             params.threads);
   r.times_ms.emplace_back("selection", watch.lap());

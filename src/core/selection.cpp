@@ -120,7 +120,7 @@ std::vector<int> voxel_clusters(const VoxelGrid& grid, const std::vector<std::ui
                                 const VoxelSurface& surface, const std::vector<char>& in_plane,
                                 const SelectionParams& params, int& count) {
   const float cos_tolerance =
-      static_cast<float>(std::cos(detail::radians(params.concavity_tolerance_deg)));
+      static_cast<float>(std::cos(detail::radians(params.voxels.concavity_tolerance_deg)));
   std::vector<std::uint32_t> voxel_label(grid.size(), 0);
   for (std::size_t v = 0; v < grid.size(); ++v)
     if (!grid.points[v].empty()) voxel_label[v] = labels[grid.points[v][0]];
@@ -162,7 +162,7 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
                   const std::map<int, const Candidate*>& background,
                   const std::map<int, const Candidate*>& pieces, std::vector<int>& component) {
   const float cos_tolerance =
-      static_cast<float>(std::cos(detail::radians(params.concavity_tolerance_deg)));
+      static_cast<float>(std::cos(detail::radians(params.voxels.concavity_tolerance_deg)));
   const std::vector<int> voxel_component = voxel_components(grid, component);
   std::map<std::pair<int, int>, std::pair<int, int>> boundary;  // (a, b) -> (edges, concave)
   for (std::size_t u = 0; u < grid.size(); ++u)
@@ -188,7 +188,7 @@ void merge_convex(const VoxelGrid& grid, const VoxelSurface& surface, const Sele
                       : in_background == 1
                           ? coplanar(*(a != background.end() ? a : b)->second,
                                      *pieces.at(a != background.end() ? pair.second : pair.first))
-                          : e.first >= params.merge_min_boundary &&
+                          : e.first >= params.voxels.merge_min_boundary &&
                                 e.second <= params.merge_max_concave_share * e.first;
     if (join) sets.unite(pair.first, pair.second);
   }
@@ -316,7 +316,7 @@ Selection select_candidates(const Frame& frame, const VoxelGrid& grid,
       euclidean_components(frame, split.dense, cluster, params.cluster_tolerance);
   reattach_weak_points(frame, grid, split, cluster, s.clusters, component);
   std::vector<Candidate> components = group_components(component);
-  if (params.merge_convex)
+  if (params.voxels.merge_convex)
     merge_convex_components(frame, grid, surface, in_plane, point_labels, params, components,
                             component);
   if (params.absorb_small) absorb_small_components(grid, params, components, component);

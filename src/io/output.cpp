@@ -76,11 +76,11 @@ nlohmann::json segmentation_report(const Frame& frame, const SegmentParams& para
   // surfaces and k is 0.
   j["paper_labels"] = r.paper_labels;
   j["k"] = r.k();
-  j["kmeans_iterations"] = r.kmeans_iterations;
+  j["kmeans_iterations"] = r.kmeans_iterations_run;
   j["mrf"] = {{"enabled", params.mrf.enabled},
               {"energy_before", r.energy_before},
               {"energy_after", r.energy_after},
-              {"cycles", r.mrf_cycles}};
+              {"cycles", r.mrf_cycles_run}};
   nlohmann::json labels = nlohmann::json::array();
   for (std::size_t label = 1; label < r.label_sizes.size(); ++label)
     if (r.label_sizes[label])

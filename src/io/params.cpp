@@ -3,6 +3,7 @@
 #include <proxseg/core/parameters.hpp>
 #include <proxseg/io/params.hpp>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 
@@ -48,8 +49,13 @@ template <class P>
 json to_json_with(const P& params, const std::vector<Parameter>& table) {
   json j = json::object();
   for (const Parameter& row : table) {
-    json& where = row.section.empty() ? j : j[row.section];
-    where[row.name] = value_json(get_parameter(params, row.key()));
+    json* where = &j;  // "selection.image" -> j["selection"]["image"]
+    for (std::size_t at = 0; at < row.section.size();) {
+      const std::size_t dot = std::min(row.section.find('.', at), row.section.size());
+      where = &(*where)[row.section.substr(at, dot - at)];
+      at = dot + 1;
+    }
+    (*where)[row.name] = value_json(get_parameter(params, row.key()));
   }
   return j;
 }
@@ -61,29 +67,47 @@ json to_json_with(const P& params, const std::vector<Parameter>& table) {
                    (near.empty() ? "" : " (did you mean " + near + "?)"));
 }
 
-template <class P>
-P from_json_with(const json& j, P base, const std::vector<Parameter>& table) {
-  if (!j.is_object()) throw InputError("config: expected a JSON object, got " + j.dump());
+// The sections of the table, and every section that holds one ("selection" for
+// "selection.image").
+std::set<std::string> section_names(const std::vector<Parameter>& table) {
   std::set<std::string> sections;
-  for (const Parameter& row : table)
-    if (!row.section.empty()) sections.insert(row.section);
+  for (const Parameter& row : table) {
+    if (row.section.empty()) continue;
+    for (std::size_t dot = row.section.find('.'); dot != std::string::npos;
+         dot = row.section.find('.', dot + 1))
+      sections.insert(row.section.substr(0, dot));
+    sections.insert(row.section);
+  }
+  return sections;
+}
+
+template <class P>
+P from_json_with(const json& j, P base, const std::vector<Parameter>& table,
+                 std::vector<std::string>* renamed) {
+  if (!j.is_object()) throw InputError("config: expected a JSON object, got " + j.dump());
+  const std::set<std::string> sections = section_names(table);
   // Unknown keys are errors: a typo must not silently leave a default in place.
   auto set = [&](const std::string& key, const json& v) {
     const Parameter* row = nullptr;
     for (const Parameter& r : table)
-      if (r.key() == key) row = &r;
+      if (r.key() == key || r.old_key == key) row = &r;
     if (!row) unknown_key(table, key);
-    set_parameter(base, key, json_value(*row, v));
+    if (renamed && row->key() != key) renamed->push_back("config: " + renamed_note(*row, key));
+    set_parameter(base, row->key(), json_value(*row, v));
   };
-  for (const auto& [key, value] : j.items()) {
-    if (sections.count(key)) {
-      if (!value.is_object())
+  auto read = [&](const auto& self, const json& object, const std::string& prefix) -> void {
+    for (const auto& [name, value] : object.items()) {
+      const std::string key = prefix + name;
+      if (!sections.count(key)) {
+        set(key, value);
+      } else if (!value.is_object()) {
         throw InputError("field " + key + ": expected an object, got " + value.dump());
-      for (const auto& [sub, v] : value.items()) set(key + "." + sub, v);
-    } else {
-      set(key, value);
+      } else {
+        self(self, value, key + ".");
+      }
     }
-  }
+  };
+  read(read, j, "");
   validate(base);
   return base;
 }
@@ -103,8 +127,9 @@ json to_json(const SegmentParams& params) {
   return to_json_with(params, segment_parameters());
 }
 
-SegmentParams params_from_json(const json& j, SegmentParams base) {
-  return from_json_with(j, base, segment_parameters());
+SegmentParams params_from_json(const json& j, SegmentParams base,
+                               std::vector<std::string>* renamed) {
+  return from_json_with(j, base, segment_parameters(), renamed);
 }
 
 json to_json(const DescriptorParams& d) {
@@ -118,12 +143,12 @@ json to_json(const RecognitionParams& params) {
 }
 
 RecognitionParams recognition_params_from_json(const json& j, RecognitionParams base) {
-  return from_json_with(j, base, recognition_parameters());
+  return from_json_with(j, base, recognition_parameters(), nullptr);
 }
 
-std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::string& path,
-                                                                  SegmentParams seg,
-                                                                  RecognitionParams rec) {
+std::pair<SegmentParams, RecognitionParams> read_recognize_params(
+    const std::string& path, SegmentParams seg, RecognitionParams rec,
+    std::vector<std::string>* renamed) {
   const json j = read_json_file(path);
   try {
     if (!j.is_object())
@@ -132,7 +157,7 @@ std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::str
       if (key != "segmentation" && key != "recognition")
         throw InputError("config: unknown key " + key +
                          " (expected \"segmentation\" and/or \"recognition\")");
-    if (j.contains("segmentation")) seg = params_from_json(j.at("segmentation"), seg);
+    if (j.contains("segmentation")) seg = params_from_json(j.at("segmentation"), seg, renamed);
     if (j.contains("recognition")) rec = recognition_params_from_json(j.at("recognition"), rec);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
@@ -140,10 +165,11 @@ std::pair<SegmentParams, RecognitionParams> read_recognize_params(const std::str
   return {seg, rec};
 }
 
-SegmentParams read_params(const std::string& path, SegmentParams base) {
+SegmentParams read_params(const std::string& path, SegmentParams base,
+                          std::vector<std::string>* renamed) {
   const json j = read_json_file(path);
   try {
-    return params_from_json(j, base);
+    return params_from_json(j, base, renamed);
   } catch (const InputError& e) {
     throw InputError(path + ": " + e.what());
   }

@@ -39,6 +39,9 @@ struct Parameter {
   // The paper's value: segmentation, the paper preset's where the paper states it
   // (preset("paper")); recognition, what section 3.4 says. "" = the paper leaves it open.
   std::string paper;
+  // The key before the selection's sections (0.1: "selection.image_normal_step"), still read, with
+  // a deprecation note (renamed_note); "" = the key never changed.
+  std::string old_key;
 
   std::string key() const;         // "voxels.voxel_size"; "threads" at the top level
   std::string type_name() const;   // "bool", "int", "uint64", "real", "choice"
@@ -50,8 +53,12 @@ const std::vector<Parameter>& segment_parameters();
 const std::vector<Parameter>& recognition_parameters();
 
 // The row of key ("voxels.voxel_size", or the bare name "voxel_size" when no other section has
-// it); nullptr when there is none.
+// it; an old key or bare old name as well, see renamed_note); nullptr when there is none.
 const Parameter* find_parameter(const std::vector<Parameter>& table, const std::string& key);
+// For a key that found row by its old spelling, the deprecation note the CLI logs and Python warns
+// with: "selection.image_normal_step is now selection.image.normal_step (the old key will be
+// removed)"; "" when key is the row's current key or name.
+std::string renamed_note(const Parameter& row, const std::string& key);
 // The key of the row a mistyped key most likely meant (closest_name over the keys, else the row
 // whose name ends the key: "mrf.voxel_size" -> "voxels.voxel_size"); "" when none is near. Every
 // "did you mean" about a parameter (config keys, --set, require_parameter) comes from here.

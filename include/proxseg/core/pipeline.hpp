@@ -23,10 +23,10 @@ struct SegmentParams {
   SelectionParams selection;
   // Whether the paper's labels (stages 2-6: features, Algorithm 1, k-means, MRF, point labels)
   // are computed when nothing needs them. The voxel selection always needs them (the paper
-  // preset, unorganized frames), and the image-grid selection when merge_links and
-  // merge_min_agreement > 0; the
-  // default's image-grid selection does not consult them, and on its development sets they
-  // changed no answer (docs/method.md, "What each stage buys"), so it skips them unless asked.
+  // preset, unorganized frames), and the image-grid selection when selection.image.merge_links
+  // and merge_min_agreement > 0; the default's image-grid selection does not consult them, and
+  // on its development sets they changed no answer (docs/method.md, "What each stage buys"), so
+  // it skips them unless asked.
   bool paper_labels = false;
   int threads = 0;  // 0 = all cores; results do not depend on it
   // A frame whose segmentation would need more memory than this, in MiB (segment_memory_mib's
@@ -68,7 +68,8 @@ struct SegmentResult {
   std::vector<int> labels_kmeans;           // per clustered voxel, 0..k-1
   std::vector<int> labels;                  // per clustered voxel after the MRF (= k-means if off)
   double energy_before = 0, energy_after = 0;
-  int kmeans_iterations = 0, mrf_cycles = 0;
+  // How many ran: at most KMeansParams::max_iterations and MrfParams::max_cycles.
+  int kmeans_iterations_run = 0, mrf_cycles_run = 0;
   std::vector<std::uint32_t> point_labels;               // per point: 0 invalid, 1..k (above)
   std::vector<std::uint32_t> point_labels_kmeans;        // the same before the MRF
   std::vector<std::size_t> label_sizes;                  // points per label: [0] unlabelled, 1..k
@@ -77,7 +78,7 @@ struct SegmentResult {
   // Stages that ran on a second thread beside the ones above (the image-grid geometry of the
   // selection, beside Algorithm 1 .. point labels): not part of the sequence.
   std::vector<std::pair<std::string, double>> concurrent_ms;
-  // The steps inside the image-grid stages, as "stage/step" (GridSurfaces::steps_ms,
+  // The steps inside the image-grid stages, as "stage/step" (ImageSurfaces::steps_ms,
   // Selection::steps_ms): where their time goes.
   std::vector<std::pair<std::string, double>> steps_ms;
   double total_ms = 0;  // wall time of segment()

@@ -11,6 +11,107 @@
 
 namespace proxseg {
 
+// Selection on voxels [3.3 and extensions]: the convexity rules of the voxel clusters.
+struct VoxelSelectionParams {
+  // Convexity [extension, after Stein et al., LCCP]: voxel edges whose normals differ by more than
+  // concavity_tolerance_deg and turn towards each other are concave. SelectionParams::
+  // split_concave cuts clusters there; merge_convex joins neighbouring components whose boundary
+  // is convex or flat (at most SelectionParams::merge_max_concave_share of at least
+  // merge_min_boundary voxel edges concave).
+  double concavity_tolerance_deg = 10.0;
+  bool merge_convex = true;
+  int merge_min_boundary = 3;
+};
+
+// Selection on the image grid of organized frames [extension]: per-pixel normals, depth-step and
+// crease edges between pixels, connected components. docs/method.md, "Selection on the image
+// grid".
+struct ImageSelectionParams {
+  // Pixel offset of the central differences (and box-filter size) of the normals.
+  int normal_step = 4;
+  // The normals' smoothing keeps to each pixel's own surface (no depth step, by
+  // depth_step_ratio), so that a silhouette's normals are not bent towards the surface behind it
+  // (FeatureParams::normal_edge_ratio); false = the shape feature's plain box filter.
+  bool edge_aware_normals = true;
+  // Neighbouring pixels whose depths differ by more than this share of the depth lie on
+  // different surfaces (a depth-discontinuity edge).
+  double depth_step_ratio = 0.01;
+  // The crease test compares the normals of the pixels concavity_step pixels to either side of a
+  // pixel (along rows, columns and both diagonals); a crease turns them by more than
+  // crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside of a
+  // mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
+  int concavity_step = 4;
+  double crease_tolerance_deg = 35.0;
+  // The support plane takes a pixel within plane_band_sigmas standard deviations of the sensor's
+  // depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and disparity
+  // steps), and with its normal within SelectionParams::support_normal_tolerance_deg.
+  double sensor_noise_at_1m = 0.0025;  // metres
+  double plane_band_sigmas = 3.0;
+  double plane_band_min = 0.005;  // metres: the band is never narrower (surface roughness)
+  // The pixels of a candidate within plane_flat_sigmas standard deviations of the support plane
+  // are given to it at the end: the normals of the table beside an object are bent by the object
+  // over normal_step pixels, and that ring would otherwise stay with the object (as many table
+  // pixels as pen pixels around a pen lying on the table). 0 = keep it.
+  double plane_flat_sigmas = 1.0;
+  // merge_links (docs/method.md, rule 6): components merge across gaps and short depth steps
+  // where their points come within SelectionParams::cluster_tolerance, linked by pixel pairs at
+  // most merge_window pixels apart: at least merge_min_links links, at most
+  // SelectionParams::merge_max_concave_share of them concave. Rays across bands of missing pixels
+  // (bridge_window pixels at most) link components whose ends lie within bridge_tolerance. A
+  // merge also needs merge_min_agreement of the links to join pixels of the same segmentation
+  // label (colour and texture). A piece of the support plane that left its noise band
+  // (merge_min_links links to it, in it) joins it: without this rule 62 pieces of table became
+  // candidates in the 45 mOSD learn scenes, none with it.
+  bool merge_links = true;
+  int merge_window = 3;
+  int merge_min_links = 20;
+  int bridge_window = 24;
+  double bridge_tolerance = 0.08;  // metres
+  double merge_min_agreement = 0;  // 0: the paper's labels are not consulted (nor computed)
+  // A component with at least island_missing_share of its border beside missing pixels joins the
+  // component it has the most rays to (at least merge_min_links).
+  double island_missing_share = 0.9;
+};
+
+// Occlusion [extension, image grid]: pieces of one object that an object in front cut apart
+// join. Rays (rows, columns, diagonals) of at most window pixels run from one component to
+// another across pixels in front of both ends; a ray ends on one surface when the two ends
+// continue one face (normals within normal_tolerance_deg, each end within surface_tolerance + 5 %
+// of the gap of the other's tangent plane) or two faces of a convex body whose edge is hidden
+// (each end behind the other's tangent plane). Two components join when at least min_rays rays,
+// and min_share of the rays between them, end on one surface and their hue-saturation histograms
+// [3.1] intersect by at least min_colour; or when at least min_face_rays of the rays continue one
+// face (the stronger geometric evidence) and the histograms intersect by at least
+// min_face_colour.
+struct OcclusionParams {
+  bool enabled = true;
+  int window = 120;  // pixels
+  int min_rays = 10;
+  double min_share = 0.5;  // of the rays between the two, ending on one surface
+  double normal_tolerance_deg = 20.0;
+  double surface_tolerance = 0.01;  // metres
+  double min_colour = 0.4;
+  int min_face_rays = 3;
+  double min_face_colour = 0.2;
+};
+
+// Containers [extension, image grid]: the inside and the outside of one container (a mug, bowl or
+// pot seen from above, which its rim cuts in two) join. A component is round when the circle
+// fitted to its footprint on the support plane has a radius in [min_radius, max_radius] and the
+// footprint lies on it within circle_rms of the radius (RMS). Another component is its inside
+// when 90 % of its footprint lies within that circle (+ rim_tolerance), its top no higher than
+// the round one's rim (+ rim_tolerance) and its bottom at least min_depth below the rim. Needs
+// the support plane.
+struct ContainerParams {
+  bool enabled = true;
+  double min_radius = 0.02;     // metres
+  double max_radius = 0.2;      // metres
+  double circle_rms = 0.1;      // share of the radius
+  double rim_tolerance = 0.01;  // metres
+  double min_depth = 0.02;      // metres
+};
+
+// Selection [3.3]: the rules both geometries share at the top, each geometry's own in its section.
 struct SelectionParams {
   // Weak connections [3.3]: a point is weak when the number of cluster points within
   // density_radius is under weak_density_ratio times the cluster's median. On organized frames the
@@ -21,18 +122,14 @@ struct SelectionParams {
   double cluster_tolerance = 0.01;  // metres
   int min_candidate_points = 300;   // smaller components are not candidates (paper preset: 500)
   bool absorb_small = true;         // small components join their main large neighbour, else 0
-  // Convexity [extension, after Stein et al., LCCP]: voxel edges whose normals differ by more than
-  // the tolerance and turn towards each other are concave. split_concave cuts clusters there;
-  // merge_convex (kVoxels) joins neighbouring components whose boundary is convex or flat (at
-  // most merge_max_concave_share of at least merge_min_boundary voxel edges concave).
-  double concavity_tolerance_deg = 10.0;
+  // Convexity [extension, after Stein et al., LCCP]: clusters are cut at concave edges (voxel
+  // edges, or creases on the image grid), and components merge across a boundary with at most
+  // merge_max_concave_share of its links concave.
   bool split_concave = true;
-  bool merge_convex = true;
   double merge_max_concave_share = 0.25;
-  int merge_min_boundary = 3;
-  // Support plane [extension]: the dominant plane of voxels (same offset within
-  // background_plane_distance, normals within support_normal_tolerance_deg) is cut from the rest,
-  // so objects do not stay connected to the table they stand on.
+  // Support plane [extension]: the dominant plane (same offset within background_plane_distance,
+  // or the sensor's noise band on the image grid; normals within support_normal_tolerance_deg) is
+  // cut from the rest, so objects do not stay connected to the table they stand on.
   bool cut_support_plane = true;
   double support_normal_tolerance_deg = 20.0;
   // Background: a large planar component that supports the objects (table, floor, wall) is
@@ -42,88 +139,14 @@ struct SelectionParams {
   double background_inlier_ratio = 0.85;     // share of points within that distance
 
   // Where the geometry of the selection is computed [extension]. kVoxels: the voxel clusters of
-  // the paper's 3.3 (with the extensions above). kImage: on the image grid of organized frames
-  // (per-pixel normals, depth-step and concavity edges between pixels, connected components);
-  // unorganized frames always use kVoxels. docs/method.md, "Selection on the image grid".
+  // the paper's 3.3 (with the extensions of `voxels`). kImage: on the image grid of organized
+  // frames (`image`, `occlusion`, `containers`); unorganized frames always use kVoxels.
   enum class Geometry { kVoxels, kImage };
   Geometry geometry = Geometry::kImage;
-  // kImage: pixel offset of the central differences (and box-filter size) of the normals.
-  int image_normal_step = 4;
-  // kImage: the normals' smoothing keeps to each pixel's own surface (no depth step, by
-  // depth_step_ratio), so that a silhouette's normals are not bent towards the surface behind it
-  // (FeatureParams::normal_edge_ratio); false = the shape feature's plain box filter.
-  bool edge_aware_normals = true;
-  // kImage: neighbouring pixels whose depths differ by more than this share of the depth lie on
-  // different surfaces (a depth-discontinuity edge).
-  double depth_step_ratio = 0.01;
-  // kImage: the concavity test compares the normals of the pixels concavity_step pixels to
-  // either side of a pixel (along rows, columns and both diagonals); a crease turns them by more
-  // than crease_tolerance_deg towards each other. Wider than the voxels' tolerance: the inside
-  // of a mug or bowl turns the normals by 15-20 degrees over that span without being a crease.
-  int concavity_step = 4;
-  double crease_tolerance_deg = 35.0;
-  // kImage: the support plane takes a pixel within plane_band_sigmas standard deviations of the
-  // sensor's depth noise at its range, sensor_noise_at_1m x z^2 (Kinect v1: random noise and
-  // disparity steps), and with its normal within support_normal_tolerance_deg.
-  double sensor_noise_at_1m = 0.0025;  // metres
-  double plane_band_sigmas = 3.0;
-  double plane_band_min = 0.005;  // metres: the band is never narrower (surface roughness)
-  // kImage: the pixels of a candidate within plane_flat_sigmas standard deviations of the
-  // support plane are given to it at the end: the normals of the table beside an object are bent
-  // by the object over image_normal_step pixels, and that ring would otherwise stay with the
-  // object (as many table pixels as pen pixels around a pen lying on the table). 0 = keep it.
-  double plane_flat_sigmas = 1.0;
-  // kImage, merge_links (docs/method.md, rule 6): components merge across gaps and short depth
-  // steps where their points come within cluster_tolerance, linked by pixel pairs at most
-  // merge_window pixels apart: at least merge_min_links links, at most merge_max_concave_share
-  // of them concave. Rays across bands of missing pixels (bridge_window pixels at most) link
-  // components whose ends lie within bridge_tolerance. A merge also needs merge_min_agreement of
-  // the links to join pixels of the same segmentation label (colour and texture). A piece of the
-  // support plane that left its noise band (merge_min_links links to it, in it) joins it: without
-  // this rule 62 pieces of table became candidates in the 45 mOSD learn scenes, none with it.
-  bool merge_links = true;
-  int merge_window = 3;
-  int merge_min_links = 20;
-  int bridge_window = 24;
-  double bridge_tolerance = 0.08;  // metres
-  double merge_min_agreement = 0;  // 0: the paper's labels are not consulted (nor computed)
-  // A component with at least island_missing_share of its border beside missing pixels joins the
-  // component it has the most rays to (at least merge_min_links).
-  double island_missing_share = 0.9;
-  // kImage: pieces of one object that an object in front cut apart join (join_occluded). Rays
-  // (rows, columns, diagonals) of at most occlusion_window pixels run from one component to
-  // another across pixels in front of both ends; a ray ends on one surface when the two ends
-  // continue one face (normals within occlusion_normal_tolerance_deg, each end within
-  // occlusion_surface_tolerance + 5 % of the gap of the other's tangent plane) or two faces of a
-  // convex body whose edge is hidden (each end behind the other's tangent plane). Two components
-  // join when at least occlusion_min_rays rays, and occlusion_min_share of the rays between them,
-  // end on one surface and their hue-saturation histograms [3.1] intersect by at least
-  // occlusion_min_colour ...
-  bool join_occluded = true;
-  int occlusion_window = 120;  // pixels
-  int occlusion_min_rays = 10;
-  double occlusion_min_share = 0.5;  // of the rays between the two, ending on one surface
-  double occlusion_normal_tolerance_deg = 20.0;
-  double occlusion_surface_tolerance = 0.01;  // metres
-  double occlusion_min_colour = 0.4;
-  // ... or when at least occlusion_min_face_rays of the rays continue one face (the stronger
-  // geometric evidence) and the histograms intersect by at least occlusion_min_face_colour.
-  int occlusion_min_face_rays = 3;
-  double occlusion_min_face_colour = 0.2;
-  // kImage: the inside and the outside of one container (a mug, bowl or pot seen from above,
-  // which its rim cuts in two) join (join_containers). A component is round when the circle
-  // fitted to its footprint on the support plane has a radius in
-  // [container_min_radius, container_max_radius] and the footprint lies on it within
-  // container_circle_rms of the radius (RMS). Another component is its inside when 90 % of its
-  // footprint lies within that circle (+ container_rim_tolerance), its top no higher than the
-  // round one's rim (+ container_rim_tolerance) and its bottom at least container_min_depth below
-  // the rim. Needs the support plane.
-  bool join_containers = true;
-  double container_min_radius = 0.02;     // metres
-  double container_max_radius = 0.2;      // metres
-  double container_circle_rms = 0.1;      // share of the radius
-  double container_rim_tolerance = 0.01;  // metres
-  double container_min_depth = 0.02;      // metres
+  VoxelSelectionParams voxels;
+  ImageSelectionParams image;
+  OcclusionParams occlusion;
+  ContainerParams containers;
 };
 
 // An oriented bounding box: centre, axes as columns (largest extent first, right-handed), and
@@ -148,7 +171,7 @@ struct Selection {
   std::vector<Candidate> components;    // instance i is components[i - 1]
   int clusters = 0;                     // connected same-label voxel sets before splitting
   std::size_t weak_points = 0;          // points set aside as weak connections
-  // Wall time of each step inside select_on_grid(), in order (the voxel selection: none).
+  // Wall time of each step inside select_on_image(), in order (the voxel selection: none).
   std::vector<std::pair<std::string, double>> steps_ms;
 };
 
