@@ -8,6 +8,7 @@
 
 #include <proxseg/io/frame_source.hpp>
 #include <proxseg/io/output.hpp>
+#include <proxseg/io/view_page.hpp>
 
 #include <CLI/CLI.hpp>
 #include <functional>
@@ -178,6 +179,14 @@ struct ParamsOptions {
 };
 void add_params(CLI::App& app, ParamsOptions& o);
 int run_params(const ParamsOptions& o);
+
+// `proxseg view`
+struct ViewCommandOptions {
+  std::string prefix, output, title;
+  std::size_t max_points = proxseg::ViewOptions{}.max_points;
+};
+void add_view(CLI::App& app, ViewCommandOptions& o);
+int run_view(const ViewCommandOptions& o);
 
 // `proxseg synth`
 struct SynthOptions {

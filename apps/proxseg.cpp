@@ -47,18 +47,21 @@ int main(int argc, char** argv) {
   SegmentCommand segment;
   SummaryOptions summary;
   ParamsOptions params;
+  ViewCommandOptions view;
   return program_main(argc, argv, [&](CLI::App& app) -> std::function<int()> {
     add_segment(app, segment);
     // Listed in the help; never parsed here (run_tools above).
     for (const ToolCommand& c : kToolCommands) app.add_subcommand(c.name, c.about);
     add_summary(app, summary);
     add_params(app, params);
+    add_view(app, view);
     return [&] {
       if (app.got_subcommand("segment"))
         return naming_input(input_name(segment), "segmenting it",
                             [&] { return run_segment(segment); });
       if (app.got_subcommand("summary")) return run_summary(summary);
       if (app.got_subcommand("params")) return run_params(params);
+      if (app.got_subcommand("view")) return run_view(view);
       return 2;
     };
   });

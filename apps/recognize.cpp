@@ -32,7 +32,8 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
                   "point); required for a scene (with --batch: a folder)");
   cmd->add_option("--outputs", o.outputs,
                   "What to write for a scene, comma-separated: labels (PREFIX.object.png, 16-bit "
-                  "object ids), pcd (binary_compressed), png, json; or all")
+                  "object ids), pcd (binary_compressed), png, json, html (the 3D page, proxseg "
+                  "view); or all")
       ->capture_default_str();
   add_batch_options(cmd, o);
   cmd->add_option("--object", o.object,

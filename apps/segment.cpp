@@ -34,7 +34,8 @@ void add_segment(CLI::App& app, SegmentCommand& o) {
       ->required();
   cmd->add_option("--outputs", o.outputs,
                   "What to write, comma-separated: labels (PREFIX.label.png and "
-                  "PREFIX.instance.png, 16-bit), pcd (binary_compressed), png, json; or all")
+                  "PREFIX.instance.png, 16-bit), pcd (binary_compressed), png, json, html (the 3D "
+                  "page, proxseg view); or all")
       ->capture_default_str();
   add_batch_options(cmd, o);
   cmd->add_option("--config", o.config,

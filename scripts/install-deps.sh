@@ -14,9 +14,11 @@ set -euo pipefail
 # when present and installed here so that they are. python3-distributed and python3-dask run
 # batches on a Dask cluster (python3 -m proxseg.dask, docs/batch.md). python3-mypy checks the
 # type stubs and annotations; python3-venv, python3-pip and python3-setuptools `pip install .`.
+# zlib1g-dev: the 3D page's points are deflated. chromium: the pages' tests load them in
+# headless Chromium (python/tests/chromium.py drives it over its DevTools pipe).
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev libsqlite3-dev
-  dpkg-dev man-db doxygen
+  zlib1g-dev dpkg-dev man-db doxygen chromium
   python3-dev pybind11-dev python3-numpy python3-pytest python3-open3d python3-matplotlib
   python3-tqdm python3-distributed python3-dask python3-mypy python3-venv python3-pip
   python3-setuptools)

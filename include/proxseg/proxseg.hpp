@@ -30,12 +30,14 @@
 #include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/batch.hpp>
+#include <proxseg/io/batch_page.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/frame_source.hpp>
 #include <proxseg/io/memory.hpp>
 #include <proxseg/io/obj_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/io/view_page.hpp>
 #include <proxseg/recognition/database_io.hpp>
 #include <proxseg/recognition/lookalike.hpp>
 #include <proxseg/recognition/recognition.hpp>

@@ -10,7 +10,7 @@ from typing import Any, Dict, List, Optional, Type, Union
 
 import numpy as np
 
-from . import _proxseg
+from . import _page, _proxseg
 from ._database import DatabaseLike, as_database
 from ._frame import as_frame, to_open3d
 from ._proxseg import Frame
@@ -82,7 +82,7 @@ class RecognizedObject:
 
 
 @dataclass(frozen=True)
-class RecognitionResult:
+class RecognitionResult(_page.PageMixin):
     """What :func:`recognize` and :func:`recognize_object` return.
 
     Attributes
@@ -124,7 +124,8 @@ class RecognitionResult:
             one object (:func:`recognize_object`): ``PREFIX.json`` and ``PREFIX.png``. Written
             all or none.
         outputs : str
-            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, or ``all``.
+            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, ``html`` (the 3D page), or
+            ``all``.
 
         Returns
         -------
@@ -142,6 +143,21 @@ class RecognitionResult:
         if self._output is None or self.frame is None:
             raise ValueError("save: this result was pickled; save it where it was recognised")
         return _proxseg._write_recognition(os.fspath(prefix), self.frame, self._output, outputs)
+
+    def to_html(self, title: str = "recognition") -> str:
+        """The 3D page of this result, as ``proxseg view`` writes it (docs/viewing.md): the
+        scene coloured by its colours or by object, the legend (name, score), picking (name,
+        score, fitness, coverage, pose) and each named object's box and axes at its pose.
+
+        Raises
+        ------
+        ValueError
+            For the result of recognize_object (no scene), or one that was pickled.
+        """
+        if self.frame is None or self.object_ids is None or self._output is None:
+            raise ValueError("to_html: only a scene's result (recognize), where it was "
+                             "recognised (not after pickling), has a page")
+        return _proxseg._recognition_view_page(self.frame, self._output, title)
 
     def to_open3d(self) -> Any:
         """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by object

@@ -8,7 +8,7 @@ from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
 
-from . import _proxseg
+from . import _page, _proxseg
 from ._frame import as_frame, to_open3d
 from ._proxseg import Frame
 from ._params import SegmentParams, resolve_segment_params
@@ -66,7 +66,7 @@ class Candidate:
 
 
 @dataclass(frozen=True)
-class SegmentResult:
+class SegmentResult(_page.PageMixin):
     """What :func:`segment` returns.
 
     Attributes
@@ -120,8 +120,8 @@ class SegmentResult:
             ``PREFIX.json`` (the report), and with ``labels`` ``PREFIX.label.png`` and
             ``PREFIX.instance.png``. Written all or none.
         outputs : str
-            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, or ``all`` (the CLI's
-            ``--outputs``).
+            Comma-separated ``labels``, ``pcd``, ``png``, ``json``, ``html`` (the 3D page), or
+            ``all`` (the CLI's ``--outputs``).
 
         Returns
         -------
@@ -140,6 +140,24 @@ class SegmentResult:
         return _proxseg._write_segmentation(os.fspath(prefix), self.frame, self.labels,
                                             self.instances, self.report, outputs,
                                             int(self.params.threads))
+
+    def to_html(self, title: str = "segmentation") -> str:
+        """The 3D page of this result, as ``proxseg view`` writes it (docs/viewing.md): one
+        self-contained HTML document with the cloud coloured by the scene's colours, the
+        labels (k-means and MRF where computed) and the instances, a legend, picking and the
+        candidates' boxes.
+
+        Raises
+        ------
+        ValueError
+            For a result without its frame.
+        """
+        if self.frame is None:
+            raise ValueError("to_html: this result has no frame (results of proxseg.segment do)")
+        fields = [("label", self.labels), ("instance", self.instances)]
+        if self.report.get("paper_labels") and self.params.mrf.enabled:
+            fields.insert(0, ("label_kmeans", self.labels_kmeans))
+        return _proxseg._view_page(self.frame, fields, self.report, title)
 
     def to_open3d(self, by: str = "instances") -> Any:
         """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by result.

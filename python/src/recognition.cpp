@@ -2,6 +2,7 @@
 // the per-point object ids, and for a scene the segmentation it started from.
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/io/view_page.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include <chrono>
@@ -88,6 +89,15 @@ void bind_recognition(py::module_& m) {
         return files;
       },
       py::arg("prefix"), py::arg("frame"), py::arg("output"), py::arg("outputs"));
+  m.def(
+      "_recognition_view_page",
+      [](const Frame& frame, const RecognitionOutput& out, const std::string& title) {
+        py::gil_scoped_release release;
+        return view_page(frame, {{"object", recognition_labels(frame, out.objects)}}, out.report,
+                         {ViewOptions{}.max_points, title});
+      },
+      py::arg("frame"), py::arg("output"), py::arg("title"),
+      "The 3D page (io/view_page.hpp) of a recognised scene.");
   m.def(
       "_recognition_params",
       [](const py::dict& overrides) {

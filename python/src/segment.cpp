@@ -4,6 +4,7 @@
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/io/view_page.hpp>
 
 #include "bindings.hpp"
 #include "segment.hpp"
@@ -74,6 +75,25 @@ void bind_segment(py::module_& m) {
       },
       py::arg("prefix"), py::arg("frame"), py::arg("labels"), py::arg("instances"),
       py::arg("report"), py::arg("outputs"), py::arg("threads"));
+  m.def(
+      "_view_page",
+      [](const Frame& frame, const py::list& fields, const py::dict& report,
+         const std::string& title) {
+        std::vector<ViewField> f;
+        for (const py::handle& item : fields) {
+          const auto pair = item.cast<std::pair<std::string, py::array>>();
+          const auto u =
+              py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(
+                  pair.second);
+          if (!u) throw InputError(pair.first + ": expected integer ids");
+          f.push_back({pair.first, std::vector<std::uint32_t>(u.data(), u.data() + u.size())});
+        }
+        const nlohmann::json r = python_to_json(report);
+        py::gil_scoped_release release;
+        return view_page(frame, f, r, {ViewOptions{}.max_points, title});
+      },
+      py::arg("frame"), py::arg("fields"), py::arg("report"), py::arg("title"),
+      "The 3D page (io/view_page.hpp) of frame with its per-point fields [(name, ids)].");
   m.def(
       "_parameter_table",
       [](const std::string& which) {

@@ -73,7 +73,7 @@ def test_save_writes_the_files_of_the_cli(learn0, tmp_path):
     result = proxseg.segment(learn0, threads=1)
     files = result.save(tmp_path / "py", outputs="all")
     assert [Path(f).name for f in files] == ["py.label.png", "py.instance.png", "py.pcd",
-                                             "py.png", "py.json"]
+                                             "py.png", "py.json", "py.html"]
     run_cli("segment", data("mosd/learn/learn0.pcd"), "-o", tmp_path / "cli", "--outputs", "all",
             "--threads", "1")
     for ext in (".label.png", ".instance.png", ".pcd", ".png"):
@@ -197,7 +197,8 @@ def test_recognition_results_save_the_files_of_the_cli(tmp_path):
     frame = proxseg.read_rgbd(f["color"], f["depth"], meta=f["meta"])
     result = proxseg.recognize(frame, db, segment_params={"threads": 1}, threads=1)
     files = result.save(tmp_path / "py", outputs="all")
-    assert sorted(Path(p).name for p in files) == ["py.json", "py.object.png", "py.pcd", "py.png"]
+    assert sorted(Path(p).name for p in files) == ["py.html", "py.json", "py.object.png", "py.pcd",
+                                                   "py.png"]
     run_cli("recognize", "--db", db, "--colour", f["color"], "--depth", f["depth"], "--meta",
             f["meta"], "-o", tmp_path / "cli", "--outputs", "all", "--threads", "1")
     for ext in (".pcd", ".png", ".object.png"):

@@ -5,6 +5,7 @@
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
+#include <proxseg/io/view_page.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -131,8 +132,8 @@ nlohmann::json build_info() {
 
 OutputSet parse_outputs(const std::string& list, const std::string& field) {
   if (list.empty())
-    throw InputError(field + ": no outputs (expected labels, pcd, png, json or all)");
-  OutputSet o{false, false, false, false};
+    throw InputError(field + ": no outputs (expected labels, pcd, png, json, html or all)");
+  OutputSet o{false, false, false, false, false};
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t end = std::min(list.find(',', start), list.size());
@@ -146,22 +147,34 @@ OutputSet parse_outputs(const std::string& list, const std::string& field) {
       o.png = true;
     else if (word == "json")
       o.json = true;
+    else if (word == "html")
+      o.html = true;
     else if (word == "all")
-      o = OutputSet{true, true, true, true};
+      o = OutputSet{true, true, true, true, true};
     else
       throw InputError(field + ": unknown output \"" + word +
-                       "\" (expected labels, pcd, png, json or all, comma-separated)");
+                       "\" (expected labels, pcd, png, json, html or all, comma-separated)");
   }
   return o;
 }
 
 std::string to_string(const OutputSet& o) {
   std::string s;
-  for (const auto& [on, name] : {std::pair{o.labels, "labels"}, std::pair{o.pcd, "pcd"},
-                                 std::pair{o.png, "png"}, std::pair{o.json, "json"}})
+  for (const auto& [on, name] :
+       {std::pair{o.labels, "labels"}, std::pair{o.pcd, "pcd"}, std::pair{o.png, "png"},
+        std::pair{o.json, "json"}, std::pair{o.html, "html"}})
     if (on) s += (s.empty() ? "" : ",") + std::string(name);
   return s;
 }
+
+namespace {
+
+// A page's title: the prefix's file name ("learn0" for out/learn0).
+std::string page_title(const std::string& prefix) {
+  return std::filesystem::path(prefix).filename().string();
+}
+
+}  // namespace
 
 std::vector<std::string> output_files(const std::string& prefix, const OutputSet& o,
                                       bool recognition) {
@@ -177,15 +190,29 @@ std::vector<std::string> output_files(const std::string& prefix, const OutputSet
   if (o.pcd) files.push_back(prefix + ".pcd");
   if (o.png) files.push_back(prefix + ".png");
   if (o.json) files.push_back(prefix + ".json");
+  if (o.html) files.push_back(prefix + ".html");
   return files;
 }
+
+namespace {
+void write_segmentation_files(const std::string& prefix, const Frame& frame,
+                              const std::vector<std::uint32_t>& point_labels,
+                              const std::vector<std::uint32_t>& instances,
+                              const nlohmann::json& report, const OutputSet& outputs, int threads,
+                              std::vector<ViewField> more_fields);
+}  // namespace
 
 nlohmann::json write_segmentation(const std::string& prefix, const Frame& frame,
                                   const SegmentParams& params, const SegmentResult& result,
                                   const OutputSet& outputs) {
   const nlohmann::json report = segmentation_report(frame, params, result);
-  write_segmentation(prefix, frame, result.point_labels, result.selection.instance, report, outputs,
-                     params.threads);
+  // The page also shows the k-means labels where the MRF changed them [3.2].
+  std::vector<ViewField> more;
+  if (outputs.html && result.paper_labels && params.mrf.enabled &&
+      result.point_labels_kmeans.size() == frame.size())
+    more.push_back({"label_kmeans", result.point_labels_kmeans});
+  write_segmentation_files(prefix, frame, result.point_labels, result.selection.instance, report,
+                           outputs, params.threads, more);
   return report;
 }
 
@@ -193,6 +220,17 @@ void write_segmentation(const std::string& prefix, const Frame& frame,
                         const std::vector<std::uint32_t>& point_labels,
                         const std::vector<std::uint32_t>& instances, const nlohmann::json& report,
                         const OutputSet& outputs, int threads) {
+  write_segmentation_files(prefix, frame, point_labels, instances, report, outputs, threads, {});
+}
+
+namespace {
+
+// write_segmentation's files; the 3D page shows more_fields before the labels and instances.
+void write_segmentation_files(const std::string& prefix, const Frame& frame,
+                              const std::vector<std::uint32_t>& point_labels,
+                              const std::vector<std::uint32_t>& instances,
+                              const nlohmann::json& report, const OutputSet& outputs, int threads,
+                              std::vector<ViewField> more_fields) {
   if (point_labels.size() != frame.size() || instances.size() != frame.size())
     throw InputError(
         prefix + ": labels and instances must have one value per point of the frame (" +
@@ -227,8 +265,16 @@ void write_segmentation(const std::string& prefix, const Frame& frame,
   if (outputs.pcd) files.emplace_back(prefix + ".pcd", std::move(pcd));
   if (outputs.png) files.emplace_back(prefix + ".png", std::move(png));
   if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  if (outputs.html) {
+    more_fields.push_back({"label", point_labels});
+    more_fields.push_back({"instance", instances});
+    files.emplace_back(prefix + ".html", view_page(frame, more_fields, report,
+                                                   {ViewOptions{}.max_points, page_title(prefix)}));
+  }
   write_files_atomic(files);
 }
+
+}  // namespace
 
 namespace {
 
@@ -341,8 +387,10 @@ nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
   // is moved.
   const std::string stem = std::filesystem::path(prefix).filename().string();
   std::vector<std::pair<std::string, std::string>> files;
+  std::vector<std::uint32_t> ids;
+  if (scene && (outputs.pcd || outputs.labels || outputs.html))
+    ids = recognition_labels(frame, objects);
   if (scene && (outputs.pcd || outputs.labels)) {
-    const std::vector<std::uint32_t> ids = recognition_labels(frame, objects);
     if (outputs.labels) files.emplace_back(prefix + ".object.png", label_png(frame, ids));
     if (outputs.pcd) files.emplace_back(prefix + ".pcd", pcd_bytes(frame, {{"object", ids}}));
     report["labels"] = {{"file", stem + (outputs.pcd ? ".pcd" : ".object.png")},
@@ -363,6 +411,9 @@ nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
     files.emplace_back(prefix + ".png", detail::encode_png(picture));
   }
   if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  if (outputs.html && scene)
+    files.emplace_back(prefix + ".html", view_page(frame, {{"object", ids}}, report,
+                                                   {ViewOptions{}.max_points, page_title(prefix)}));
   write_files_atomic(files);
   return report;
 }

@@ -219,6 +219,15 @@ std::vector<Rgb> recognition_colours(const std::vector<SceneObject>& objects) {
 
 namespace detail {
 
+Rgb label_rgb(std::uint32_t label) {
+  const cv::Vec3b bgr = label_colour(label);
+  return {bgr[2], bgr[1], bgr[0]};
+}
+
+}  // namespace detail
+
+namespace detail {
+
 // Per frame point the index into objects of the object that holds it, -1 for none.
 std::vector<int> point_owners(const Frame& frame, const std::vector<SceneObject>& objects) {
   std::vector<int> owner(frame.size(), -1);

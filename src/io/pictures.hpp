@@ -10,6 +10,9 @@
 
 namespace proxseg::detail {
 
+// The colour of a label or instance id in the pictures (label 0: black).
+Rgb label_rgb(std::uint32_t label);
+
 // Per frame point the index into objects of the object that holds it, -1 for none.
 // std::invalid_argument if a point index is outside the frame or two objects hold one point.
 std::vector<int> point_owners(const Frame& frame, const std::vector<SceneObject>& objects);

@@ -17,14 +17,15 @@ struct OutputSet {
   // 16-bit grey PNGs of the frame's size (label_png), one value per point, the compact output of
   // a large batch.
   bool labels = false;
-  bool pcd = true;   // PREFIX.pcd: the frame and its labels, binary_compressed
-  bool png = true;   // PREFIX.png: the picture
-  bool json = true;  // PREFIX.json: the report
+  bool pcd = true;    // PREFIX.pcd: the frame and its labels, binary_compressed
+  bool png = true;    // PREFIX.png: the picture
+  bool json = true;   // PREFIX.json: the report
+  bool html = false;  // PREFIX.html: the 3D page (view_page.hpp)
 };
-// "labels,pcd,png,json": any of them, comma-separated, or "all". InputError naming the field and
-// the unknown word, or for an empty list.
+// "labels,pcd,png,json,html": any of them, comma-separated, or "all". InputError naming the field
+// and the unknown word, or for an empty list.
 OutputSet parse_outputs(const std::string& list, const std::string& field = "--outputs");
-// The canonical list, in the order labels,pcd,png,json.
+// The canonical list, in the order labels,pcd,png,json,html.
 std::string to_string(const OutputSet& outputs);
 // The files a segmentation (recognition = false) or the recognition of a scene writes for these
 // outputs.

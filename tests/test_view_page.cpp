@@ -1,0 +1,141 @@
+// The 3D page (io/view_page.hpp) and the batch page (io/batch_page.hpp) as data: the points the
+// page embeds decode to the frame's points and ids, the legends are the report's, and bad input
+// is an InputError. python/tests/test_view.py loads the pages in a browser.
+#include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/render.hpp>
+#include <proxseg/io/batch_page.hpp>
+#include <proxseg/io/output.hpp>
+#include <proxseg/io/view_page.hpp>
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace {
+
+using namespace proxseg;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string between(const std::string& text, const std::string& open, const std::string& close) {
+  const std::size_t a = text.find(open);
+  EXPECT_NE(a, std::string::npos) << open;
+  const std::size_t from = a + open.size(), b = text.find(close, from);
+  return text.substr(from, b - from);
+}
+
+std::string unbase64(const std::string& text) {
+  std::string out;
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (char c : text) {
+    const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const char* at = c ? std::strchr(digits, c) : nullptr;
+    if (!at) continue;  // '=' and white space
+    bits = (bits << 6) | static_cast<std::uint32_t>(at - digits);
+    if ((count += 6) >= 8) out += static_cast<char>((bits >> (count -= 8)) & 0xff);
+  }
+  return out;
+}
+
+std::string inflated(const std::string& bytes, std::size_t size) {
+  std::string out(size, '\0');
+  uLongf n = size;
+  EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &n,
+                       reinterpret_cast<const Bytef*>(bytes.data()), bytes.size()),
+            Z_OK);
+  out.resize(n);
+  return out;
+}
+
+std::uint16_t plane16(const std::string& blob, const json& at, std::size_t i) {
+  const std::size_t offset = at[0], n = at[1];
+  return static_cast<std::uint8_t>(blob[offset + i]) |
+         static_cast<std::uint8_t>(blob[offset + n + i]) << 8;
+}
+
+struct Segmented {
+  Frame frame = synth_scene(SynthParams{});
+  SegmentParams params;
+  SegmentResult result = segment(frame, params);
+  json report = segmentation_report(frame, params, result);
+};
+
+const Segmented& segmented() {
+  static const Segmented s;
+  return s;
+}
+
+TEST(ViewPage, EmbedsTheFramesPointsAndIdsAsThePageDecodesThem) {
+  const Segmented& s = segmented();
+  const std::string page = view_page(
+      s.frame, {{"label", s.result.point_labels}, {"instance", s.result.selection.instance}},
+      s.report, {ViewOptions{}.max_points, "synthetic"});
+  const json meta = json::parse(between(page, "type=\"application/json\">", "</script>"));
+  EXPECT_EQ(meta["title"], "synthetic");
+  std::vector<int> valid;
+  for (std::size_t i = 0; i < s.frame.size(); ++i)
+    if (s.frame.xyz[i].allFinite()) valid.push_back(static_cast<int>(i));
+  ASSERT_EQ(meta["points"], valid.size());
+  const std::string blob =
+      inflated(unbase64(between(page, "type=\"application/octet-stream\">", "</script>")),
+               16 * valid.size() + 64);
+  for (int a = 0; a < 3; ++a) {
+    const double lo = meta["bounds"]["min"][a], step = meta["bounds"]["step"][a];
+    std::uint16_t q = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < valid.size(); ++i) {
+      q = static_cast<std::uint16_t>(q + plane16(blob, meta["arrays"]["position"][a], i));
+      worst = std::max(worst, std::abs(lo + q * step - s.frame.xyz[valid[i]][a]));
+    }
+    EXPECT_LE(worst, step * 0.51 + 1e-7) << "axis " << a;
+  }
+  for (std::size_t i = 0; i < valid.size(); i += 97) {
+    EXPECT_EQ(plane16(blob, meta["arrays"]["instance"], i), s.result.selection.instance[valid[i]]);
+    EXPECT_EQ(plane16(blob, meta["arrays"]["label"], i), s.result.point_labels[valid[i]]);
+  }
+  // Layers: the scene's colours, then the fields; the instances' legend is the report's.
+  std::vector<std::string> keys;
+  for (const json& l : meta["layers"]) keys.push_back(l["key"]);
+  EXPECT_EQ(keys, (std::vector<std::string>{"colour", "label", "instance"}));
+  std::set<int> ids, reported;
+  for (const json& e : meta["layers"][2]["legend"]) ids.insert(e["id"].get<int>());
+  for (const char* kind : {"candidates", "background"})
+    for (const json& c : s.report[kind]) reported.insert(c["id"].get<int>());
+  EXPECT_EQ(ids, reported);
+  EXPECT_EQ(meta["objects"].size(), s.report["candidates"].size());  // their boxes
+}
+
+TEST(ViewPage, ShowsEveryKthPointOfLargeCloudsAndSaysSo) {
+  const Segmented& s = segmented();
+  const std::string page = view_page(s.frame, {}, s.report, {1000, "few"});
+  const json meta = json::parse(between(page, "type=\"application/json\">", "</script>"));
+  EXPECT_LE(meta["points"].get<int>(), 1000);
+  ASSERT_EQ(meta["notes"].size(), 1u);
+  EXPECT_NE(meta["notes"][0].get<std::string>().find("th of the"), std::string::npos);
+}
+
+TEST(ViewPage, NoTextOfTheReportEndsThePagesScript) {
+  const Segmented& s = segmented();
+  const std::string page =
+      view_page(s.frame, {}, s.report, {ViewOptions{}.max_points, "</script><b>x</b>"});
+  EXPECT_EQ(page.find("</script><b>"), std::string::npos);
+  EXPECT_NE(page.find("\\u003c/script>\\u003cb>"), std::string::npos);
+}
+
+TEST(ViewPage, BadInputIsAnInputError) {
+  const Segmented& s = segmented();
+  EXPECT_THROW(view_page(s.frame, {{"label", {1, 2, 3}}}, s.report), InputError);
+  const fs::path dir = fs::path(PROXSEG_TEST_TMP) / "view_page";
+  fs::create_directories(dir);
+  EXPECT_THROW(view_page_of((dir / "missing").string()), InputError);
+  std::ofstream(dir / "other.json") << "[1, 2]";
+  EXPECT_THROW(view_page_of((dir / "other").string()), InputError);
+  EXPECT_THROW(batch_page(dir.string()), InputError);  // no summary log
+}
+
+}  // namespace
