@@ -33,6 +33,15 @@ def mosd_learn() -> list:
     return scenes
 
 
+def scene_folder(folder: Path, learn: tuple) -> Path:
+    """A folder of the given mOSD learn scenes (links) and one broken PCD, as a batch reads it."""
+    folder.mkdir()
+    for k in learn:
+        (folder / f"learn{k}.pcd").symlink_to(data(f"mosd/learn/learn{k}.pcd"))
+    (folder / "broken.pcd").write_text("not a pcd\n")
+    return folder
+
+
 def ycb_frame(k: int) -> dict:
     base = data("ycbv/frames") / f"{k:06d}"
     return {"color": f"{base}-color.png", "depth": f"{base}-depth.png", "meta": f"{base}-meta.json"}

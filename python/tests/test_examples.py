@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 import proxseg
-from conftest import YCB_OBJECTS, data, ycb_frame
+from conftest import YCB_OBJECTS, data, scene_folder, ycb_frame
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "python"
 
@@ -43,11 +43,7 @@ def test_recognize_scene_builds_a_database_and_names_the_objects(tmp_path):
 
 
 def test_segment_folder_segments_every_scene_with_a_bar(tmp_path):
-    folder = tmp_path / "scenes"
-    folder.mkdir()
-    for i in (0, 1, 2):
-        (folder / f"learn{i}.pcd").symlink_to(data(f"mosd/learn/learn{i}.pcd"))
-    (folder / "broken.pcd").write_text("not a pcd\n")
+    folder = scene_folder(tmp_path / "scenes", (0, 1, 2))
     out = tmp_path / "out"
     r = run("segment_folder.py", folder, "-o", out, "--threads", "2")
     assert r.returncode == 1  # the broken scene
