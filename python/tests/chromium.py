@@ -15,7 +15,7 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Tuple
 
 # As the machines here need them: no GPU (WebGL by SwiftShader), no network traffic of its own.
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
@@ -122,6 +122,18 @@ class Browser:
         for kind in ("mouseMoved", "mousePressed", "mouseReleased"):
             self.call("Input.dispatchMouseEvent", session=True, type=kind, x=x, y=y,
                       button="left" if kind != "mouseMoved" else "none", clickCount=1)
+
+    def drag(self, points: List[Tuple[float, float]]) -> None:
+        """Presses the left button at the first point, moves through the others, releases it at
+        the last."""
+        x, y = points[0]
+        self.call("Input.dispatchMouseEvent", session=True, type="mousePressed", x=x, y=y,
+                  button="left", clickCount=1)
+        for x, y in points[1:]:
+            self.call("Input.dispatchMouseEvent", session=True, type="mouseMoved", x=x, y=y,
+                      button="left")
+        self.call("Input.dispatchMouseEvent", session=True, type="mouseReleased", x=x, y=y,
+                  button="left", clickCount=1)
 
     def hover(self, x: float, y: float) -> None:
         self.call("Input.dispatchMouseEvent", session=True, type="mouseMoved", x=x, y=y)

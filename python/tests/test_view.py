@@ -8,6 +8,7 @@ import time
 
 import pytest
 
+from batch_log import failed, ms_of, write_batch_log
 from chromium import Browser
 from conftest import CLI, data, run_cli, scene_folder, ycb_frame
 
@@ -54,6 +55,21 @@ def test_segmentation_page_draws_lists_and_picks_the_instances(tmp_path, browser
     assert first_draw_ms < 5000 and seconds < 10, (first_draw_ms, seconds)
     assert browser.evaluate("proxsegView.layers()") == ["colour", "label", "instance"]
     assert browser.evaluate(DRAWN_PIXELS) > 0.2
+    # Turning draws every step-th point when a frame of all of them is slow (software WebGL
+    # here), and all of them again once the view rests.
+    moving = browser.evaluate("proxsegView.moving")
+    points = browser.evaluate("proxsegView.meta.points")
+    browser.evaluate("proxsegView.drawnPoints()")
+    browser.drag([(640 + 15 * k, 360) for k in range(8)])
+    drawn, deadline = [], time.monotonic() + 10
+    while not drawn or drawn[-1] != points:  # until the view rests
+        assert time.monotonic() < deadline, drawn
+        time.sleep(0.1)
+        drawn += browser.evaluate("proxsegView.drawnPoints()")
+    if moving["step"] > 1:
+        assert -(-points // moving["step"]) in drawn, (moving, drawn)
+    else:
+        assert set(drawn) == {points}, (moving, drawn)
     report = json.loads(prefix.with_suffix(".json").read_text())
     instances = {c["id"] for c in report["candidates"] + report["background"]}
     legend = browser.evaluate("proxsegView.legend()")
@@ -134,21 +150,7 @@ def test_batch_page_lists_sorts_and_filters_the_frames(tmp_path, browser):
 def test_batch_page_of_ten_thousand_frames_opens_at_once(tmp_path, browser):
     """A generated log of 10,000 frames (every 50th failed): the page shows the first 60 and
     pages through the rest."""
-    out = tmp_path / "big"
-    out.mkdir()
-    header = {"header": {"command": "segment", "frames": 10000, "frames_all": 10000,
-                         "outputs": "json", "parameters": {}, "proxseg": {}, "sources": ["x"],
-                         "shard": None}}
-    lines = [json.dumps(header)]
-    for k in range(10000):
-        row = {"frame": f"scene{k}", "inputs": [f"x/scene{k}.pcd"], "ms": 50 + k % 97}
-        if k % 50 == 7:
-            row["error"] = f"x/scene{k}.pcd: damaged"
-        else:
-            row.update(candidates=k % 9, outputs={f"scene{k}.json": 1000})
-        lines.append(json.dumps(row))
-    lines.append(json.dumps({"end": {"interrupted": False}}))
-    (out / "summary.jsonl").write_text("\n".join(lines) + "\n")
+    out = write_batch_log(tmp_path / "big", 10000)
     run_cli("view", out)
     started = time.monotonic()
     browser.open(out / "index.html")
@@ -160,10 +162,10 @@ def test_batch_page_of_ten_thousand_frames_opens_at_once(tmp_path, browser):
     browser.evaluate("proxsegBatch.nextPage()")
     assert browser.evaluate("proxsegBatch.shown()")[0] == "scene60"
     browser.evaluate("proxsegBatch.setMinCount(8)")  # the frames with 8 candidates
-    expected = [k for k in range(10000) if k % 50 != 7 and k % 9 >= 8]
+    expected = [k for k in range(10000) if not failed(k) and k % 9 >= 8]
     assert browser.evaluate("proxsegBatch.shown()")[:2] == [f"scene{k}" for k in expected[:2]]
     browser.evaluate("proxsegBatch.setMinTime(140)")  # and at least 140 ms
-    slow = [k for k in expected if 50 + k % 97 >= 140]
+    slow = [k for k in expected if ms_of(k) >= 140]
     assert browser.evaluate("document.getElementById('position').textContent") == \
         f"1-60 of {len(slow)} frames (10000 in all)"
     browser.evaluate("proxsegBatch.setMinCount(0)")

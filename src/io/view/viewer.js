@@ -6,10 +6,14 @@
 (function () {
   const started = performance.now();
   const meta = JSON.parse(document.getElementById("proxseg-meta").textContent);
-  const api = { meta, firstDrawMs: null, errors: [] };
+  // firstDrawMs: from this script's start; openedMs: from the navigation's start (what a user
+  // waits, the page's parsing included).
+  const api = { meta, firstDrawMs: null, openedMs: null, errors: [] };
   window.proxsegView = api;
-  let resolveReady, rejectReady;
+  let resolveReady, rejectReady, resolveMoving;
   api.ready = new Promise((ok, fail) => ((resolveReady = ok), (rejectReady = fail)));
+  // How the page draws while the view moves (planMoving): { step, fullFrameMs }.
+  api.moving = new Promise((ok) => (resolveMoving = ok));
 
   // ---- small matrix helpers (column-major 4x4, as WebGL takes them) ----
   const M = {
@@ -181,6 +185,48 @@
     draw();
   }
 
+  // ---- while the view moves: every step-th point, when all of them would not keep up ----
+  // A frame of all the points is timed once after the first draw (the quicker of two, as the first
+  // frames pay for warming up; reading a pixel back waits for a frame's end);
+  // when it takes longer than MOVING_FRAME_MS (software WebGL, or many points on a small GPU),
+  // turning, moving and zooming draw every step-th point, a little larger, through an index
+  // buffer, and all of them again once the view rests for REST_MS.
+  const MOVING_FRAME_MS = 30, REST_MS = 150;
+  const moving = { step: 1, count: 0, indices: null, now: false, timer: 0, fullFrameMs: null,
+    drawn: [] };
+  function planMoving() {
+    for (let k = 0; k < 2; ++k) {
+      const t0 = performance.now();
+      render();
+      finishFrame();
+      moving.fullFrameMs = Math.min(moving.fullFrameMs ?? Infinity, performance.now() - t0);
+    }
+    const step = Math.ceil(moving.fullFrameMs / MOVING_FRAME_MS);
+    if (step >= 2 && gl.getExtension("OES_element_index_uint")) {
+      moving.step = step;
+      moving.count = Math.ceil(meta.points / step);
+      const indices = new Uint32Array(moving.count);
+      for (let i = 0; i < moving.count; ++i) indices[i] = i * step;
+      moving.indices = gl.createBuffer();
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, moving.indices);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, indices, gl.STATIC_DRAW);
+      const notes = document.getElementById("notes");
+      notes.textContent = [notes.textContent, `While the view moves every ${step}th point is drawn` +
+        ` (all ${meta.points.toLocaleString("en")} take ${Math.round(moving.fullFrameMs)} ms a frame` +
+        " in this browser)."].filter(Boolean).join(" ");
+    }
+    resolveMoving({ step: moving.step, fullFrameMs: moving.fullFrameMs });
+  }
+  function startMoving() {
+    if (!moving.indices) return;
+    moving.now = true;
+    clearTimeout(moving.timer);
+    moving.timer = setTimeout(() => ((moving.now = false), draw()), REST_MS);
+  }
+  function finishFrame() {
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+  }
+
   let pending = false;
   function draw() {
     if (pending || !state.xyz) return;
@@ -208,10 +254,17 @@
       attribute(pointsProgram, "colour", buffers.colour, 3, gl.UNSIGNED_BYTE, true),
       attribute(pointsProgram, "id", buffers.id, 1, gl.UNSIGNED_SHORT, false)];
     gl.uniformMatrix4fv(gl.getUniformLocation(pointsProgram, "mvp"), false, m);
-    gl.uniform1f(gl.getUniformLocation(pointsProgram, "size"),
-      (canvas.height / 480) * 2.5 * Number(document.getElementById("size").value));
+    const fewer = moving.now && moving.indices;
+    gl.uniform1f(gl.getUniformLocation(pointsProgram, "size"), (canvas.height / 480) * 2.5 *
+      Number(document.getElementById("size").value) * (fewer ? Math.min(2, Math.sqrt(moving.step)) : 1));
     gl.uniform1f(gl.getUniformLocation(pointsProgram, "highlight"), state.highlight);
-    gl.drawArrays(gl.POINTS, 0, meta.points);
+    if (fewer) {
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, moving.indices);
+      gl.drawElements(gl.POINTS, moving.count, gl.UNSIGNED_INT, 0);
+    } else {
+      gl.drawArrays(gl.POINTS, 0, meta.points);
+    }
+    if (moving.drawn.length < 1000) moving.drawn.push(fewer ? moving.count : meta.points);
     for (const l of locs) gl.disableVertexAttribArray(l);
     if (state.lineCount && document.getElementById("boxes").checked) {
       gl.useProgram(linesProgram);
@@ -229,8 +282,11 @@
       gl.disableVertexAttribArray(col);
     }
     if (api.firstDrawMs === null) {
-      api.firstDrawMs = performance.now() - started;
+      finishFrame();
+      api.openedMs = performance.now();
+      api.firstDrawMs = api.openedMs - started;
       resolveReady(api);
+      requestAnimationFrame(planMoving);
     }
   }
 
@@ -381,11 +437,13 @@
       state.yaw -= dx * 0.005;
       state.pitch = Math.max(-1.5, Math.min(1.5, state.pitch + dy * 0.005));
     }
+    startMoving();
     draw();
   });
   canvas.addEventListener("wheel", (e) => {
     e.preventDefault();
     state.distance *= Math.exp(e.deltaY * 0.001);
+    startMoving();
     draw();
   }, { passive: false });
   window.addEventListener("keydown", (e) => {
@@ -462,6 +520,24 @@
       return -1;
     },
     info: () => document.getElementById("info").textContent,
+    // Mean milliseconds per frame over n frames of a turn about the cloud, each waited for:
+    // how fluid turning is, with all the points (whileMoving false) or as the page draws them
+    // while the view moves.
+    orbitMs(n, whileMoving = false) {
+      const yaw = state.yaw, t0 = performance.now();
+      moving.now = whileMoving && !!moving.indices;
+      for (let k = 0; k < n; ++k) {
+        state.yaw = yaw + (2 * Math.PI * (k + 1)) / n;
+        render();
+        finishFrame();
+      }
+      moving.now = false;
+      state.yaw = yaw;
+      draw();
+      return (performance.now() - t0) / n;
+    },
+    // The points each frame drew since the last call.
+    drawnPoints: () => moving.drawn.splice(0),
   });
 
   start().catch((e) => {
