@@ -125,6 +125,13 @@ TEST(ViewPage, NoTextOfTheReportEndsThePagesScript) {
       view_page(s.frame, {}, s.report, {ViewOptions{}.max_points, "</script><b>x</b>"});
   EXPECT_EQ(page.find("</script><b>"), std::string::npos);
   EXPECT_NE(page.find("\\u003c/script>\\u003cb>"), std::string::npos);
+  // A title that reads like the template's placeholders is shown as it is: the script and the
+  // points still go where the template has them.
+  const std::string plain = view_page(s.frame, {}, s.report, {ViewOptions{}.max_points, "x"});
+  const std::string odd =
+      view_page(s.frame, {}, s.report, {ViewOptions{}.max_points, "@JS@ @POINTS@ @HEAD@"});
+  EXPECT_NE(odd.find("\"title\":\"@JS@ @POINTS@ @HEAD@\""), std::string::npos);
+  EXPECT_EQ(odd.size(), plain.size() + std::string("@JS@ @POINTS@ @HEAD@").size() - 1);
 }
 
 TEST(ViewPage, BadInputIsAnInputError) {

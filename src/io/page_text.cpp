@@ -8,9 +8,27 @@
 namespace proxseg::detail {
 namespace {
 
-void replace_first(std::string& text, const std::string& key, const std::string& value) {
-  const std::size_t at = text.find(key);
-  if (at != std::string::npos) text.replace(at, key.size(), value);
+using Parts = std::vector<std::pair<std::string, std::string>>;
+
+// text with every placeholder of parts replaced, in one pass: what is put in is never searched,
+// so a report's text, a title or an object's name that reads like a placeholder stays as it is.
+std::string substituted(const std::string& text, const Parts& parts) {
+  std::string out;
+  out.reserve(text.size() + 1024);
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const Parts::value_type* part = nullptr;
+    if (text[i] == '@')
+      for (const auto& p : parts)
+        if (text.compare(i, p.first.size(), p.first) == 0) part = &p;
+    if (part) {
+      out += part->second;
+      i += part->first.size();
+    } else {
+      out += text[i++];
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -22,15 +40,10 @@ std::string script_safe(const std::string& json_text) {
   return out;
 }
 
-std::string page_text(const char* body_template, const char* css,
-                      const std::vector<std::pair<std::string, std::string>>& parts) {
-  std::string head = kPageHead;
-  replace_first(head, "@VERSION@", version());
-  replace_first(head, "@CSS@", css);
-  std::string page = body_template;
-  replace_first(page, "@HEAD@", head);
-  for (const auto& [key, text] : parts) replace_first(page, key, text);
-  return page;
+std::string page_text(const char* body_template, const char* css, const Parts& parts) {
+  Parts all = {{"@HEAD@", substituted(kPageHead, {{"@VERSION@", version()}, {"@CSS@", css}})}};
+  all.insert(all.end(), parts.begin(), parts.end());
+  return substituted(body_template, all);
 }
 
 }  // namespace proxseg::detail

@@ -11,8 +11,8 @@ namespace proxseg::detail {
 std::string script_safe(const std::string& json_text);
 
 // body_template (a page of src/io/view/ that starts with @HEAD@) with the head (style css) and
-// each (placeholder, text) replaced at its first place, in the order given: give the largest
-// texts last, so that no later search runs through them.
+// each (placeholder, text) put in where the template has the placeholder; the texts put in are
+// not searched for placeholders.
 std::string page_text(const char* body_template, const char* css,
                       const std::vector<std::pair<std::string, std::string>>& parts);
 

@@ -15,8 +15,8 @@
 namespace proxseg {
 
 struct ViewOptions {
-  // Clouds with more valid points than this keep every k-th (the page says so): the page of a
-  // 640x480 frame stays near 2 MB and turns fluidly.
+  // Clouds with more valid points than this keep every k-th (the page says so): at about 5 bytes
+  // a point, a page stays within about 5 MB (a 640x480 frame, about 300k points, keeps all).
   std::size_t max_points = 1000000;
   std::string title;  // shown at the top; "" = the report's input
 };
