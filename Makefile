@@ -33,7 +33,7 @@
 #                   CLI call per frame on 100 frames; bytes per --outputs choice; RSS over 2,000
 #                   frames (fails above 5 % growth)
 #   make bench-view  only the pages of `proxseg view`: sizes, time to open and to turn, in
-#                   headless Chromium, for 55 real frames and batch logs of 1,000-100,000 frames
+#                   headless Chromium, for 55 real frames and batch logs of 1,000-1,000,000 frames
 BUILD ?= build
 # The Python the module is built for (python/CMakeLists.txt prefers Debian's).
 PYTHON ?= /usr/bin/python3
@@ -241,7 +241,7 @@ bench-batch: configure
 
 # The pages of `proxseg view` (bench/view_bench.py) in headless Chromium: bytes, time to the first
 # frame drawn and per frame of a turn, for the 45 mOSD scenes and 10 YCB-Video recognitions, and
-# the batch page of generated logs of 1,000-100,000 frames; fails when a page misses issue 35's
+# the batch page of generated logs of 1,000-1,000,000 frames; fails when a page misses issue 35's
 # limits (3 MB, 2 s; 3 s for 10,000 frames). A few minutes.
 bench-view: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli

@@ -177,6 +177,19 @@ def test_batch_page_of_ten_thousand_frames_opens_at_once(tmp_path, browser):
     assert browser.errors() == []
 
 
+def test_batch_page_of_two_hundred_thousand_frames_draws_its_plots(tmp_path, browser):
+    """Past about 150,000 frames spreading the times into Math.min overflowed the stack: the
+    page must show them all with no script error."""
+    out = write_batch_log(tmp_path / "huge", 200000)
+    run_cli("view", out)
+    browser.open(out / "index.html")
+    browser.evaluate("new Promise(ok => requestAnimationFrame(() => ok()))")
+    assert browser.errors() == []
+    assert browser.evaluate("proxsegBatch.total()") == 200000
+    assert browser.evaluate("document.querySelector('#time-plot .range').textContent") == \
+        "50 ms … 146 ms"
+
+
 def test_python_results_show_the_same_page(tmp_path, ycb_db, browser):
     import proxseg
 

@@ -89,7 +89,10 @@
     box.textContent = "";
     box.append(el("h2", { textContent: title }));
     if (!values.length) return;
-    const lo = Math.min(...values), hi = Math.max(...values), bins = new Array(20).fill(0);
+    // A loop, not Math.min(...values): spreading a million frames' values overflows the stack.
+    let lo = Infinity, hi = -Infinity;
+    for (const v of values) (lo = Math.min(lo, v)), (hi = Math.max(hi, v));
+    const bins = new Array(20).fill(0);
     for (const v of values) bins[hi > lo ? Math.min(19, Math.floor(((v - lo) / (hi - lo)) * 20)) : 0]++;
     const top = Math.max(...bins), ns = "http://www.w3.org/2000/svg";
     const svg = document.createElementNS(ns, "svg");
