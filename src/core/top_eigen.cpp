@@ -9,6 +9,8 @@
 #include <numeric>
 #include <vector>
 
+#include "util/splitmix.hpp"
+
 namespace proxseg::detail {
 
 namespace {
@@ -87,6 +89,7 @@ TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
     out.values = Eigen::VectorXd::Constant(1, a(0, 0));
     out.vectors = Eigen::MatrixXd::Ones(1, 1);
     out.largest = a(0, 0);
+    out.norm = std::abs(a(0, 0));
     out.values.conservativeResize(std::min<Eigen::Index>(k, 1));
     out.vectors.conservativeResize(1, out.values.size());
     return out;
@@ -108,6 +111,7 @@ TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
                    [&](Eigen::Index p, Eigen::Index q) { return diag[p] > diag[q]; });
   const Eigen::Index keep = std::min<Eigen::Index>(k, d);
   out.largest = diag[order[0]] * scale;
+  out.norm = diag.cwiseAbs().maxCoeff() * scale;
   out.values.resize(keep);
   Eigen::MatrixXd z = Eigen::MatrixXd::Zero(d, keep);
   for (Eigen::Index c = 0; c < keep; ++c) {
@@ -125,62 +129,108 @@ TopEigen top_eigen(const Eigen::MatrixXd& a, int k) {
   return out;
 }
 
-// The same k eigenpairs by the Lanczos method with full reorthogonalisation: the Krylov space of
-// a fixed start vector grows until the top k Ritz pairs have residuals ||A y - theta y|| under
-// 1e-10 of the largest Ritz value. Each step costs one product with the d x d matrix instead of
-// the O(d^3) tridiagonalisation, and 40-80 steps suffice for a feature covariance. Falls back to
-// top_eigen when the space stops growing before the pairs have converged (an invariant subspace:
-// a repeated eigenvalue could be missed) or reaches d.
+namespace {
+
+// The growing orthonormal basis V of the block Lanczos space, A V beside it, and the projection
+// H = V^T A V on which the Rayleigh-Ritz step runs.
+struct KrylovBasis {
+  Eigen::MatrixXd v, av, h;
+  Eigen::Index size = 0;
+  SplitMix random{0x5eed0f7a11eau};  // the start block and the replacements of deflated columns
+};
+
+// Removes from w its part in the first `columns` columns of V: classical Gram-Schmidt, twice
+// ("twice is enough": one pass leaves rounding error along V once w has mostly cancelled).
+void orthogonalise(const KrylovBasis& basis, Eigen::Index columns, Eigen::Ref<Eigen::VectorXd> w) {
+  for (int pass = 0; pass < 2; ++pass)
+    w.noalias() -= basis.v.leftCols(columns) * (basis.v.leftCols(columns).transpose() * w);
+}
+
+// Appends the candidate columns to V, each orthogonalised against V and normalised. A column
+// whose part outside V is under 1e-8 of its norm is deflated: its directions are in V already
+// (an invariant subspace, a repeated value, a cluster no power of A tells apart), and a seeded
+// random vector takes its place, so that the space keeps growing in every direction that is
+// left; this is what finds every copy of a repeated eigenvalue.
+void append_block(KrylovBasis& basis, const Eigen::MatrixXd& candidates) {
+  constexpr double kDeflate = 1e-8;
+  const Eigen::Index d = basis.v.rows();
+  for (Eigen::Index c = 0; c < candidates.cols() && basis.size < d; ++c) {
+    Eigen::VectorXd w = candidates.col(c);
+    for (int attempt = 0;; ++attempt) {
+      const double before = w.norm();
+      orthogonalise(basis, basis.size, w);
+      const double after = w.norm();
+      if (after > kDeflate * before && after > 0) break;
+      if (attempt == 8) return;  // V holds (numerically) the whole space: never seen below d
+      for (Eigen::Index i = 0; i < d; ++i) w(i) = basis.random.uniform(-0.5, 0.5);
+    }
+    basis.v.col(basis.size++) = w.normalized();
+  }
+}
+
+// A V and H = V^T A V for the columns [from, size) of V.
+void extend_projection(const Eigen::MatrixXd& a, KrylovBasis& basis, Eigen::Index from) {
+  const Eigen::Index m = basis.size, added = m - from;
+  basis.av.middleCols(from, added).noalias() = a * basis.v.middleCols(from, added);
+  const Eigen::MatrixXd column = basis.v.leftCols(m).transpose() * basis.av.middleCols(from, added);
+  basis.h.block(0, from, m, added) = column;
+  basis.h.block(from, 0, added, m) = column.transpose();
+  // The new diagonal block symmetric to the last bit, for the dense solver below.
+  const Eigen::MatrixXd block = basis.h.block(from, from, added, added);
+  basis.h.block(from, from, added, added) = 0.5 * (block + block.transpose());
+}
+
+// The top k Ritz pairs of the space when their residuals ||A y - theta y|| (computed from A V,
+// not from the recurrence) are all under `tolerance` times the largest magnitude; else nothing.
+bool converged_ritz_pairs(const KrylovBasis& basis, int k, double tolerance, TopEigen& out) {
+  const Eigen::Index m = basis.size;
+  const TopEigen ritz = top_eigen(basis.h.topLeftCorner(m, m), k);
+  const Eigen::MatrixXd y = basis.v.leftCols(m) * ritz.vectors;
+  const Eigen::MatrixXd residual =
+      basis.av.leftCols(m) * ritz.vectors - y * ritz.values.asDiagonal();
+  if (ritz.norm > 0 && residual.colwise().norm().maxCoeff() > tolerance * ritz.norm) return false;
+  out.values = ritz.values;
+  out.vectors = y;
+  out.vectors.colwise().normalize();
+  out.largest = ritz.largest;
+  out.norm = ritz.norm;
+  return true;
+}
+
+}  // namespace
+
+// The same k eigenpairs by block Lanczos with full reorthogonalisation: the Krylov space of a
+// block of b > k seeded random vectors grows by A times the newest block until the top k Ritz
+// pairs have residuals under 1e-11 of the largest magnitude. A single start vector sees one
+// vector per distinct eigenvalue in exact arithmetic, so it finds the copies of a repeated value
+// only through rounding noise (which differs between processors): a block of b holds up to b
+// copies by construction, and deflated columns are replaced by random ones (append_block), so
+// that repeated and clustered values are found whatever their multiplicity. Each step costs b
+// products with the d x d matrix instead of the O(d^3) tridiagonalisation. Falls back to
+// top_eigen (which is exact) when the space reaches half the dimension without converging.
 TopEigen top_eigen_lanczos(const Eigen::MatrixXd& lower, int k) {
   const Eigen::Index d = lower.rows();
   constexpr Eigen::Index kDenseBelow = 64;  // small matrices: the dense solver is cheap and exact
   if (d < kDenseBelow || k >= d / 4) return top_eigen(lower, k);
+  constexpr double kTolerance = 1e-11;
   const Eigen::MatrixXd a = lower.selfadjointView<Eigen::Lower>();
-  constexpr double kTolerance = 1e-10;
-  const Eigen::Index max_steps = d - 1;
-  Eigen::MatrixXd v(d, max_steps + 1);  // Lanczos vectors
-  Eigen::VectorXd alpha(max_steps), beta(max_steps);
-  // A fixed start vector with no special direction (the golden-ratio sequence, centred).
-  for (Eigen::Index i = 0; i < d; ++i) {
-    const double t = static_cast<double>(i + 1) * 0.6180339887498949;
-    v(i, 0) = t - std::floor(t) - 0.5;
-  }
-  v.col(0).normalize();
-  Eigen::VectorXd w(d);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz;
-  for (Eigen::Index j = 0; j < max_steps; ++j) {
-    w.noalias() = a * v.col(j);
-    alpha(j) = v.col(j).dot(w);
-    // Full reorthogonalisation, twice (classical Gram-Schmidt): the three-term recurrence alone
-    // loses orthogonality as soon as a Ritz pair converges.
-    for (int pass = 0; pass < 2; ++pass)
-      w.noalias() -= v.leftCols(j + 1) * (v.leftCols(j + 1).transpose() * w);
-    beta(j) = w.norm();
-    const Eigen::Index m = j + 1;
-    if (m >= k && (m % 4 == 0 || !(beta(j) > 0))) {
-      Eigen::MatrixXd t = Eigen::MatrixXd::Zero(m, m);
-      t.diagonal() = alpha.head(m);
-      t.diagonal(-1) = beta.head(m - 1);
-      ritz.compute(t);  // ascending
-      const double largest = ritz.eigenvalues()(m - 1);
-      bool converged = largest > 0;
-      for (int c = 0; c < k && converged; ++c)
-        converged =
-            std::abs(beta(j) * ritz.eigenvectors()(m - 1, m - 1 - c)) <= kTolerance * largest;
-      if (converged) {
-        TopEigen out;
-        out.largest = largest;
-        out.values.resize(k);
-        out.vectors.resize(d, k);
-        for (int c = 0; c < k; ++c) {
-          out.values(c) = ritz.eigenvalues()(m - 1 - c);
-          out.vectors.col(c) = (v.leftCols(m) * ritz.eigenvectors().col(m - 1 - c)).normalized();
-        }
-        return out;
-      }
-    }
-    if (!(beta(j) > 1e-12 * std::abs(alpha(0)))) break;  // invariant subspace: not converged
-    v.col(j + 1) = w / beta(j);
+  const Eigen::Index block = std::max<Eigen::Index>(2 * k, k + 4), limit = d / 2;
+  KrylovBasis basis;
+  basis.v.resize(d, limit + block);
+  basis.av.resize(d, limit + block);
+  basis.h.resize(limit + block, limit + block);
+  Eigen::MatrixXd start(d, block);
+  for (Eigen::Index c = 0; c < block; ++c)
+    for (Eigen::Index i = 0; i < d; ++i) start(i, c) = basis.random.uniform(-0.5, 0.5);
+  append_block(basis, start);
+  Eigen::Index from = 0;
+  TopEigen out;
+  while (basis.size <= limit) {
+    extend_projection(a, basis, from);
+    if (converged_ritz_pairs(basis, k, kTolerance, out)) return out;
+    const Eigen::Index newest = from;
+    from = basis.size;
+    append_block(basis, basis.av.middleCols(newest, from - newest));
   }
   return top_eigen(lower, k);
 }
