@@ -3,7 +3,10 @@
 #               (and, when ../shared/data is present, a real mOSD scene, and recognise the
 #               objects of a YCB-Video frame from a database of three models it builds)
 #   make test   install what is missing, build, run every test (ctest)
-#   make test-sanitize  the same tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+#   make test-sanitize  the tests of readers, database, batches, memory and threads built with
+#               AddressSanitizer and UndefinedBehaviorSanitizer
+#   make test-numerics  two more builds (no vectorisation or fused multiply-add; AVX-512) answer
+#               as the default build does on mOSD learn, YCB-Video and the generated sets
 #   make package  the Debian packages: libproxseg0, libproxseg-dev (headers, CMake and pkg-config
 #               files), proxseg (the CLI, man page, completion) and python3-proxseg
 #   make docs   the C++ (Doxygen) and Python API references, and docs/parameters.md
@@ -43,7 +46,7 @@ DEMO_OUT ?= demo-out
 DEMO_OBJECTS = 009_gelatin_box 025_mug 061_foam_brick
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test test-sanitize test-pip package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view format clean
+.PHONY: all deps deps-bench configure build demo test build-sanitize test-sanitize test-numerics test-pip package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view format clean
 
 all: build
 
@@ -79,6 +82,26 @@ demo: build
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# Results that do not depend on the processor (docs/method.md, "Numerics"): the library and the
+# CLI built twice more, and their answers compared with the default build's
+# (scripts/compare-builds.py) on mOSD learn (both presets), the generated sets ($(SEGDEV)) and both
+# YCB-Video scenes against the 21 models. "scalar": Eigen without vectorisation, no fused
+# multiply-add, and at run time glibc's and OpenCV's dispatch held to SSE (a processor without
+# AVX); "v4": -march=x86-64-v4 (AVX-512 and FMA in every loop the compiler vectorises).
+NUMERICS = $(BUILD)/numerics
+NUMERICS_CONFIG = -DCMAKE_BUILD_TYPE=Release -DPROXSEG_BUILD_TESTS=OFF -DPROXSEG_BUILD_BENCH=OFF \
+  -DPROXSEG_PYTHON=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA))
+SCALAR_RUN = --env scalar=GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-AVX512F \
+  --env scalar=OPENCV_CPU_DISABLE=AVX,AVX2,FMA3,AVX512F,AVX512-SKX,AVX512-COMMON,AVX512CD,AVX512BW,AVX512DQ,AVX512VL
+test-numerics: build seg-dev
+	@cmake -S . -B $(BUILD)-scalar $(NUMERICS_CONFIG) \
+	  -DCMAKE_CXX_FLAGS="-DEIGEN_DONT_VECTORIZE -ffp-contract=off" >/dev/null
+	@cmake --build $(BUILD)-scalar -j $(JOBS) --target proxseg_cli
+	@cmake -S . -B $(BUILD)-v4 $(NUMERICS_CONFIG) -DCMAKE_CXX_FLAGS="-march=x86-64-v4" >/dev/null
+	@cmake --build $(BUILD)-v4 -j $(JOBS) --target proxseg_cli
+	@$(PYTHON) scripts/compare-builds.py --data $(DATA) --generated $(SEGDEV) --work $(NUMERICS) \
+	  $(SCALAR_RUN) default=$(BUILD) scalar=$(BUILD)-scalar v4=$(BUILD)-v4
+
 # A Debian package of the library, headers, CLI, CMake package and proxseg.pc (CPack):
 # $(BUILD)/proxseg_<version>_<arch>.deb, installable with `apt install ./$(BUILD)/proxseg_*.deb`.
 package: build
@@ -106,16 +129,20 @@ docs: build
 	@$(BUILD)/proxseg params --markdown > docs/parameters.md
 	@echo "API reference: $(BUILD)/docs/cpp/html/index.html, $(BUILD)/docs/python/proxseg.html"
 
-# The whole suite under ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails
-# the test it happens in. Its own build tree, without the benchmarks, with a static library (the
-# install test, which needs the shared one, runs in `make test`).
+# The tests of what the sanitizers can find (tests/CMakeLists.txt, PROXSEG_SANITIZER_TESTS:
+# readers, database, batches, memory and file-system faults, threads, the pages' writers) under
+# ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails the test it happens in.
+# Its own build tree, without the benchmarks, the Python module and the other tests, with a
+# static library (the install test, which needs the shared one, runs in `make test`).
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS = -O2 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all
-test-sanitize: deps
+build-sanitize: deps
 	@cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" \
 	  -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="-fsanitize=address,undefined" \
 	  -DPROXSEG_BUILD_BENCH=OFF -DPROXSEG_SHARED=OFF -DPROXSEG_PYTHON=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA)) >/dev/null
 	@cmake --build $(SAN_BUILD) -j $(JOBS)
+
+test-sanitize: build-sanitize
 	@cd $(SAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
 

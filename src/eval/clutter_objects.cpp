@@ -14,11 +14,7 @@
 
 namespace proxseg::clutter {
 
-namespace {
-
-constexpr double kBoxCell = 0.004;  // object tessellation, metres (textures are per vertex)
-
-}  // namespace
+namespace {}  // namespace
 
 Proto box_proto(Rng& r, const Vec3& size, const std::string& name) {
   Proto p;
@@ -26,7 +22,7 @@ Proto box_proto(Rng& r, const Vec3& size, const std::string& name) {
   p.name = name;
   p.size = size;
   const ColourFn tex = box_texture(r, size, p.texture);
-  p.mesh = make_box(Eigen::Isometry3d::Identity(), size, tex, kBoxCell);
+  p.mesh = make_box(Eigen::Isometry3d::Identity(), size, tex, kObjectCell);
   return p;
 }
 
@@ -36,7 +32,7 @@ Proto cylinder_proto(Rng& r, double radius, double height, const std::string& na
   p.name = name;
   p.size = Vec3(2 * radius, 2 * radius, height);
   const ColourFn tex = cylinder_texture(r, radius, height, p.texture);
-  p.mesh = make_cylinder(Eigen::Isometry3d::Identity(), radius, height, tex, kBoxCell);
+  p.mesh = make_cylinder(Eigen::Isometry3d::Identity(), radius, height, tex, kObjectCell);
   return p;
 }
 

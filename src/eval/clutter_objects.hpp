@@ -16,6 +16,10 @@
 
 namespace proxseg::clutter {
 
+// The tessellation of every generated object, metres (textures are per vertex): the clutter
+// generator's, the object set's and the scene benchmark's.
+inline constexpr double kObjectCell = 0.004;
+
 struct Proto {
   ClutterKind kind = ClutterKind::box;
   std::string name, texture;

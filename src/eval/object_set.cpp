@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <map>
 
+#include "clutter_objects.hpp"
 #include "linemod_models.hpp"
 #include "util/angles.hpp"
 #include "util/splitmix.hpp"
@@ -24,7 +25,6 @@ namespace proxseg {
 namespace {
 
 using detail::kPi;
-constexpr double kCell = 0.004;  // tessellation of the generated objects: the generator's (4 mm)
 
 using Col = Eigen::Vector3d;  // 0..255 per channel
 using Vec2 = Eigen::Vector2d;
@@ -134,7 +134,7 @@ ColourFn can_paint(const Col& a, const Col& b, double h) {
 }
 
 Mesh lathe(const std::vector<Vec2>& profile, const ColourFn& colour) {
-  return make_lathe(Eigen::Isometry3d::Identity(), profile, colour, kCell);
+  return make_lathe(Eigen::Isometry3d::Identity(), profile, colour, clutter::kObjectCell);
 }
 
 // The generated objects: the kinds that fail (round objects with colour patches, thin pens and
@@ -189,22 +189,25 @@ void add_generated(std::vector<PoolObject>& pool) {
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const Vec3 tall(0.07, 0.07, 0.15), slim(0.09, 0.05, 0.15), flat(0.12, 0.08, 0.035);
   add("box-blue", ClutterKind::box,
-      make_box(I, tall, box_paint({40, 70, 170}, {235, 235, 230}, tall), kCell), true, "box-tall",
-      0);
+      make_box(I, tall, box_paint({40, 70, 170}, {235, 235, 230}, tall), clutter::kObjectCell),
+      true, "box-tall", 0);
   add("box-green", ClutterKind::box,
-      make_box(I, tall, box_paint({40, 140, 70}, {235, 235, 230}, tall), kCell), true, "box-tall",
-      0);
+      make_box(I, tall, box_paint({40, 140, 70}, {235, 235, 230}, tall), clutter::kObjectCell),
+      true, "box-tall", 0);
   add("box-orange", ClutterKind::box,
-      make_box(I, slim, box_paint({230, 120, 30}, {60, 40, 30}, slim), kCell), true,
+      make_box(I, slim, box_paint({230, 120, 30}, {60, 40, 30}, slim), clutter::kObjectCell), true,
       "orange-things", 1);
   add("can-orange", ClutterKind::cylinder,
-      make_cylinder(I, 0.033, 0.12, can_paint({230, 120, 30}, {60, 40, 30}, 0.12), kCell), true,
-      "orange-things", 1);
+      make_cylinder(I, 0.033, 0.12, can_paint({230, 120, 30}, {60, 40, 30}, 0.12),
+                    clutter::kObjectCell),
+      true, "orange-things", 1);
   const Vec3 long_box(0.16, 0.045, 0.06);
   add("box-black", ClutterKind::box,
-      make_box(I, long_box, box_paint({35, 35, 38}, {90, 90, 95}, long_box), kCell), true, "", 1);
+      make_box(I, long_box, box_paint({35, 35, 38}, {90, 90, 95}, long_box), clutter::kObjectCell),
+      true, "", 1);
   add("box-flat", ClutterKind::box,
-      make_box(I, flat, box_paint({200, 200, 60}, {150, 40, 120}, flat), kCell), true, "", 0);
+      make_box(I, flat, box_paint({200, 200, 60}, {150, 40, 120}, flat), clutter::kObjectCell),
+      true, "", 0);
 }
 
 // ---- LINEMOD

@@ -6,6 +6,7 @@
 #include <proxseg/eval/scene_eval.hpp>
 
 #include "assignment.hpp"
+#include "clutter_objects.hpp"
 #include "linemod_models.hpp"
 
 #include <Eigen/Geometry>
@@ -18,8 +19,6 @@
 namespace proxseg {
 
 namespace {
-
-constexpr double kCell = 0.004;  // primitives' tessellation: the generator's (4 mm)
 
 using Col = Eigen::Vector3d;  // 0..255 per channel
 
@@ -110,17 +109,21 @@ SceneCatalogue scene_catalogue(const std::string& models_dir) {
   const double marker_r = 0.0125, marker_h = 0.13;
   c.entries.push_back(entry(
       "marker-red", ClutterKind::cylinder,
-      make_cylinder(I, marker_r, marker_h, marker_colours({200, 30, 35}), kCell), true, true));
-  c.entries.push_back(
-      entry("marker-black", ClutterKind::cylinder,
-            make_cylinder(I, marker_r, marker_h, marker_colours({30, 30, 34}), kCell), true, true));
+      make_cylinder(I, marker_r, marker_h, marker_colours({200, 30, 35}), clutter::kObjectCell),
+      true, true));
+  c.entries.push_back(entry(
+      "marker-black", ClutterKind::cylinder,
+      make_cylinder(I, marker_r, marker_h, marker_colours({30, 30, 34}), clutter::kObjectCell),
+      true, true));
   const Eigen::Vector3d tea(0.07, 0.07, 0.14), rice(0.08, 0.06, 0.16);
-  c.entries.push_back(
-      entry("box-tea", ClutterKind::box,
-            make_box(I, tea, box_colours({190, 30, 30}, {240, 238, 230}, tea), kCell), true));
-  c.entries.push_back(
-      entry("box-rice", ClutterKind::box,
-            make_box(I, rice, box_colours({225, 190, 40}, {110, 70, 35}, rice), kCell), true));
+  c.entries.push_back(entry(
+      "box-tea", ClutterKind::box,
+      make_box(I, tea, box_colours({190, 30, 30}, {240, 238, 230}, tea), clutter::kObjectCell),
+      true));
+  c.entries.push_back(entry(
+      "box-rice", ClutterKind::box,
+      make_box(I, rice, box_colours({225, 190, 40}, {110, 70, 35}, rice), clutter::kObjectCell),
+      true));
   std::vector<char> known(c.entries.size(), 1);
   // Unknown: never in the database.
   c.entries.push_back(entry("glue", ClutterKind::mesh, linemod("obj_000011"), false));

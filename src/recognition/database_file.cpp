@@ -19,7 +19,6 @@ namespace fs = std::filesystem;
 namespace proxseg::detail {
 namespace {
 
-const char* const kFormat = "proxseg-model-database";
 const char* const kSchema = R"(
 CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS views(
@@ -135,7 +134,7 @@ DescriptorParams read_settings(Sqlite& sql) {
   if (!has_table(sql, "meta") || !has_table(sql, "views") || !has_table(sql, "parts") ||
       !has_table(sql, "bodies"))
     throw InputError(path + ": not a proxseg model database (its tables are missing)");
-  if (setting(sql, "format") != kFormat)
+  if (setting(sql, "format") != kDatabaseFormat)
     throw InputError(path + ": not a proxseg model database (format \"" + setting(sql, "format") +
                      "\")");
   const std::string version = setting(sql, "version");
@@ -180,7 +179,7 @@ void ensure_settings(Sqlite& sql, const DescriptorParams& descriptor) {
     return;
   }
   sql.exec(kSchema);
-  for (const auto& [key, value] : {std::pair<std::string, std::string>{"format", kFormat},
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"format", kDatabaseFormat},
                                    {"version", std::to_string(kFormatVersion)},
                                    {"units", "metres"},
                                    {"descriptor", sealed_text(descriptor_text(descriptor))}}) {

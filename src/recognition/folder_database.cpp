@@ -21,7 +21,6 @@ namespace {
 
 constexpr char kMagic[8] = {'P', 'X', 'S', 'G', 'F', 'P', 'F', '1'};
 constexpr int kVersion = 1;
-const char* const kFormat = "proxseg-model-database";
 
 [[noreturn]] void fail(const std::string& where, const std::string& what) {
   throw InputError(where + ": " + what);
@@ -168,8 +167,8 @@ Database read_folder_database(const std::string& dir) {
       fail(path, std::string("is not valid JSON (") + e.what() + ")");
     }
   }
-  if (field<std::string>(path, j, "format") != kFormat)
-    fail(path, std::string("field \"format\" is not \"") + kFormat + "\"");
+  if (field<std::string>(path, j, "format") != kDatabaseFormat)
+    fail(path, std::string("field \"format\" is not \"") + kDatabaseFormat + "\"");
   if (field<int>(path, j, "version") != kVersion)
     fail(path, "field \"version\" is not " + std::to_string(kVersion));
   if (field<std::string>(path, j, "units") != "metres")

@@ -7,6 +7,9 @@
 
 namespace proxseg::detail {
 
+// The database's "format" setting, the same in the version-1 folder and the database file.
+inline constexpr const char* kDatabaseFormat = "proxseg-model-database";
+
 // Whether DIR holds a version-1 index (DIR/index.json).
 bool is_folder_database(const std::string& dir);
 // Reads DIR/index.json, every view's PCD and feature cache into views held in memory (named
