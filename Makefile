@@ -100,6 +100,7 @@ test-numerics: build seg-dev
 	@cmake --build $(BUILD)-scalar -j $(JOBS) --target proxseg_cli
 	@cmake -S . -B $(BUILD)-v4 $(NUMERICS_CONFIG) -DCMAKE_CXX_FLAGS="-march=x86-64-v4 -Wno-maybe-uninitialized" >/dev/null
 	@cmake --build $(BUILD)-v4 -j $(JOBS) --target proxseg_cli
+	@rm -rf $(NUMERICS)
 	@$(PYTHON) scripts/compare-builds.py --data $(DATA) --generated $(SEGDEV) --work $(NUMERICS) \
 	  $(SCALAR_RUN) default=$(BUILD) scalar=$(BUILD)-scalar v4=$(BUILD)-v4
 

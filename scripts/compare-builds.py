@@ -50,18 +50,13 @@ def frame_sets(data, generated):
 
 
 def make_database(cli, data, out, env):
-    if (out / "done").exists():
-        return
     models = sorted((Path(data) / "ycbv" / "models").iterdir())
     for model in models:
         run([cli, "db", "add", str(out / "db"), "-q", "--name", model.name, "--xyz",
              str(model / "points.xyz")], env)
-    (out / "done").write_text("")
 
 
 def run_set(cli, kind, sources, extra, out, db, env):
-    if (out / "summary.json").exists():
-        return
     cmd = [cli, kind, "--batch", *sources, "-o", str(out), "--outputs", "pcd,json", "-q", *extra]
     if kind == "recognize":
         cmd += ["--db", str(db)]
@@ -176,6 +171,8 @@ def main():
     import proxseg  # the reference build's module reads every build's PCDs
 
     work = Path(args.work)
+    if work.exists() and any(work.iterdir()):
+        sys.exit(f"compare-builds: {work} is not empty (its outputs would be mixed with new ones)")
     sets = frame_sets(args.data, args.generated)
     for name, build in builds:
         cli = str(Path(build) / "proxseg")
