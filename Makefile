@@ -88,7 +88,9 @@ test: build
 # YCB-Video scenes against the 21 models. "scalar": Eigen without vectorisation, no fused
 # multiply-add, and at run time glibc's and OpenCV's dispatch held to SSE (a processor without
 # AVX); "v4": -march=x86-64-v4 (AVX-512 and FMA in Eigen's kernels and every loop the compiler
-# vectorises; the libraries' own -ffp-contract=off keeps a * b + c uncontracted).
+# vectorises; the libraries' own -ffp-contract=off keeps a * b + c uncontracted). GCC 12 warns
+# inside its AVX-512 intrinsics as Eigen uses them (masked loads of a Vector3d in umeyama): false
+# positives, silenced in that build only.
 NUMERICS = $(BUILD)/numerics
 NUMERICS_CONFIG = -DCMAKE_BUILD_TYPE=Release -DPROXSEG_BUILD_TESTS=OFF -DPROXSEG_BUILD_BENCH=OFF \
   -DPROXSEG_PYTHON=OFF -DPROXSEG_DATA_DIR=$(abspath $(DATA))
@@ -98,7 +100,7 @@ test-numerics: build seg-dev
 	@cmake -S . -B $(BUILD)-scalar $(NUMERICS_CONFIG) \
 	  -DCMAKE_CXX_FLAGS="-DEIGEN_DONT_VECTORIZE -ffp-contract=off" >/dev/null
 	@cmake --build $(BUILD)-scalar -j $(JOBS) --target proxseg_cli
-	@cmake -S . -B $(BUILD)-v4 $(NUMERICS_CONFIG) -DCMAKE_CXX_FLAGS="-march=x86-64-v4 -Wno-maybe-uninitialized" >/dev/null
+	@cmake -S . -B $(BUILD)-v4 $(NUMERICS_CONFIG) -DCMAKE_CXX_FLAGS="-march=x86-64-v4 -Wno-maybe-uninitialized -Wno-array-bounds" >/dev/null
 	@cmake --build $(BUILD)-v4 -j $(JOBS) --target proxseg_cli
 	@rm -rf $(NUMERICS)
 	@$(PYTHON) scripts/compare-builds.py --data $(DATA) --generated $(SEGDEV) --work $(NUMERICS) \
