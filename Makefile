@@ -46,7 +46,7 @@ DEMO_OUT ?= demo-out
 DEMO_OBJECTS = 009_gelatin_box 025_mug 061_foam_brick
 MAKEFLAGS += --no-print-directory
 
-.PHONY: all deps deps-bench configure build demo test build-sanitize test-sanitize test-numerics test-pip package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view format clean
+.PHONY: all deps deps-bench configure build demo test build-sanitize test-sanitize test-numerics test-pip package docs fuzz bench bench-seg bench-ablation seg-dev bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view bench-real format clean
 
 all: build
 
@@ -162,7 +162,7 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
-bench: bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view
+bench: bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view bench-real
 
 # The generated development scenes of the segmentation: clutter (60), piles and occlusion (30
 # each), seeds from 1 (docs/clutter.md); made once.
@@ -280,6 +280,16 @@ bench-view: configure
 	@$(PYTHON) bench/view_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
 	@bash scripts/update-results.sh docs/results.md view $(BUILD)/bench-out/view.md
 	@echo "docs/results.md (view) regenerated; raw figures in $(BUILD)/bench-out/view.json"
+
+# Real YCB-Video scenes, each video one fold (bench/real_bench.cpp): proxseg's variants of
+# bench/real_grid.json chosen on one fold and reported on the other, leave-one-out databases,
+# PCL LCCP and the Open3D and OpenCV PPF peers on the same frames. About 15 min on 2 cores.
+REAL_OUT = $(BUILD)/bench-out/real
+bench-real: deps-bench configure
+	@cmake --build $(BUILD) -j $(JOBS) --target real_bench
+	@$(BUILD)/bench/real_bench --ycbv $(DATA)/ycbv --grid bench/real_grid.json -o $(REAL_OUT)
+	@bash scripts/update-results.sh docs/results.md real $(REAL_OUT)/real.md
+	@echo "docs/results.md (real) regenerated; per-object CSV in $(REAL_OUT)/"
 
 format:
 	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp python/src/*.cpp python/src/*.hpp

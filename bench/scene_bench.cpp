@@ -43,6 +43,7 @@
 #include "bench_main.hpp"
 #include "bench_util.hpp"
 #include "peers_pcl.hpp"
+#include "peer_naming.hpp"
 #include "peers_rec.hpp"
 #include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
 
@@ -165,9 +166,7 @@ std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labe
 
 // The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
 // Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
-// (rec_bench's peer), the poses scored and the candidate named exactly as proxseg::recognize
-// does (same score with the candidate's colours, ties to the earlier view, the look-alike vote and
-// names_best() with the same parameters). A cluster too small to describe is not made, as
+// (rec_bench's peer), named exactly as proxseg::recognize does (peer_naming.hpp). A cluster too small to describe is not made, as
 // recognize_scene() does with such candidates.
 std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
                                    const proxseg::peers::Open3dPeer& open3d,
@@ -189,50 +188,16 @@ std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::D
     } catch (const InputError&) {
       continue;
     }
-    const std::vector<proxseg::peers::PeerAlignment> aligned =
-        open3d.align(c, static_cast<int>(rp.seed));
-    const int n = static_cast<int>(aligned.size());
-    std::vector<double> score(n, 0), rank(n, 0);
-    std::vector<proxseg::Alignment> scored(n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int v = 0; v < n; ++v)
-      if (aligned[v].found) {  // no hypothesis, no pose to score: 0
-        scored[v] = proxseg::score_pose(c, db.views[v].cloud(), aligned[v].pose, rp.registration);
-        score[v] = proxseg::score_of(scored[v], rp.score);
-        rank[v] = proxseg::rank_of(scored[v], rp.score);
-      }
+    const proxseg::peers::PeerAnswer a = proxseg::peers::name_alignments(
+        c, open3d.align(c, static_cast<int>(rp.seed)), db, rp, threads);
     Prediction p;
     p.points = std::move(points);
-    // Ranked allowing for an occlusion, judged on the score, as recognize() does.
-    int best = -1;
-    bool lone = false;  // names_best()'s lone match: colour compared, another object aligned
-    for (int v = 0; v < n; ++v)
-      if (aligned[v].found && (best < 0 || rank[v] > rank[best])) best = v;
-    int runner_up = -1;    // the best-scoring view of another object
-    bool decided = false;  // the look-alike vote named the best
-    if (best >= 0) {
-      for (int v = 0; v < n; ++v)
-        if (aligned[v].found && db.views[v].object != db.views[best].object &&
-            (runner_up < 0 || score[v] > score[runner_up]))
-          runner_up = v;
-      if (runner_up >= 0) {
-        const int winner =
-            proxseg::tell_lookalikes(c, db.views[best].cloud(), scored[best],
-                                     db.views[runner_up].cloud(), scored[runner_up], rp);
-        if (winner == 2) std::swap(best, runner_up);
-        decided = winner != 0;
-      }
-      p.best = db.views[best].object;
-      p.score = score[best];
-      p.pose = aligned[best].pose;
-      if (runner_up >= 0) p.runner_up = score[runner_up];
-      const proxseg::Alignment& a = scored[best];
-      p.colour = a.coloured ? a.colour : -1;
-      lone = runner_up >= 0 && a.coloured;
-    }
-    const bool named =
-        decided ? p.score >= rp.min_score : proxseg::names_best(p.score, p.runner_up, rp, lone);
-    p.name = best >= 0 && named ? p.best : "unknown";
+    p.name = a.name;
+    p.best = a.best;
+    p.score = a.score;
+    p.runner_up = a.runner_up;
+    p.colour = a.colour;
+    p.pose = a.pose;
     out.push_back(std::move(p));
   }
   return out;

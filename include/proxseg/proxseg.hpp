@@ -23,6 +23,7 @@
 #include <proxseg/eval/occlusion.hpp>
 #include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/eval/pose_error.hpp>
+#include <proxseg/eval/real_eval.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/eval/scene_names.hpp>

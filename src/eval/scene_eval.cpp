@@ -54,27 +54,6 @@ CatalogueObject entry(const std::string& name, ClutterKind kind, Mesh mesh, bool
   return o;
 }
 
-// Largest distance between two points: pairs are visited in decreasing order of the sum of
-// their distances to the centroid, which bounds their distance, so most are never visited.
-double diameter(const std::vector<Eigen::Vector3d>& pts) {
-  if (pts.size() < 2) return 0;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& p : pts) c += p;
-  c /= static_cast<double>(pts.size());
-  std::vector<std::pair<double, std::size_t>> r(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) r[i] = {(pts[i] - c).norm(), i};
-  std::sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  double best = 0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    if (2 * r[i].first <= best) break;
-    for (std::size_t j = i + 1; j < r.size(); ++j) {
-      if (r[i].first + r[j].first <= best) break;
-      best = std::max(best, (pts[r[i].second] - pts[r[j].second]).norm());
-    }
-  }
-  return best;
-}
-
 // At most n of the points, evenly spaced in their order.
 std::vector<Eigen::Vector3d> evenly(const std::vector<Eigen::Vector3d>& pts, int n) {
   if (n <= 0 || static_cast<int>(pts.size()) <= n) return pts;
@@ -141,7 +120,7 @@ SceneCatalogue make_catalogue(std::vector<CatalogueObject> entries, std::vector<
     std::vector<Eigen::Vector3d> pts;
     pts.reserve(e.mesh.vertices.size());
     for (const auto& v : e.mesh.vertices) pts.push_back(v.cast<double>());
-    c.diameters.push_back(diameter(pts));
+    c.diameters.push_back(model_diameter(pts));
     c.model_points.push_back(std::move(pts));
   }
   return c;
@@ -280,6 +259,27 @@ std::vector<int> match_objects(const std::vector<TruthObject>& truth,
       if (match[i] >= 0) (*iou)[i] = w(i, match[i]);
   }
   return match;
+}
+
+// Largest distance between two points: pairs are visited in decreasing order of the sum of
+// their distances to the centroid, which bounds their distance, so most are never visited.
+double model_diameter(const std::vector<Eigen::Vector3d>& pts) {
+  if (pts.size() < 2) return 0;
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  std::vector<std::pair<double, std::size_t>> r(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) r[i] = {(pts[i] - c).norm(), i};
+  std::sort(r.begin(), r.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  double best = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (2 * r[i].first <= best) break;
+    for (std::size_t j = i + 1; j < r.size(); ++j) {
+      if (r[i].first + r[j].first <= best) break;
+      best = std::max(best, (pts[r[i].second] - pts[r[j].second]).norm());
+    }
+  }
+  return best;
 }
 
 double add_s(const std::vector<Eigen::Vector3d>& model, const Eigen::Matrix4d& estimate,

@@ -112,6 +112,9 @@ std::vector<int> match_objects(const std::vector<TruthObject>& truth,
                                const std::vector<Prediction>& predictions, double min_iou,
                                std::vector<double>* iou = nullptr);
 
+// The largest distance between two of the points (a model's diameter, metres; 0 for fewer than
+// two points).
+double model_diameter(const std::vector<Eigen::Vector3d>& points);
 // ADD-S: the mean over the model points put in place by truth of the distance to the nearest
 // model point put in place by estimate (both camera <- model), metres. Symmetric objects in an
 // equivalent pose score 0.
