@@ -338,8 +338,28 @@ std::vector<std::pair<std::string, FoldResult>> proxseg_cross_fold(
   return out;
 }
 
-std::string markdown(const std::vector<FoldReport>& reports, const Options& o,
-                     std::size_t variants) {
+// Every variant on every fold: what each rule buys on real frames.
+std::string grid_markdown(const nlohmann::json& grid) {
+  std::ostringstream md;
+  if (grid.size() <= 2) return "";
+  md << "proxseg's variants (bench/real_grid.json) on each fold: named, other names, left out "
+        "unknown, left out others named:\n\n| variant | fold | named | other names | left out: "
+        "unknown | left out: others named | s/frame |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& g : grid) {
+    const auto& c = g["counts"];
+    const auto of = [&](const char* a, const char* b) {
+      return std::to_string(c[a].get<int>()) + "/" + std::to_string(c[b].get<int>());
+    };
+    md << "| " << g["variant"].get<std::string>() << " | " << g["fold"].get<std::string>() << " | "
+       << of("named", "objects") << " | " << c["other_names"].get<int>() << " | "
+       << of("loo_missing_unknown", "loo_cases") << " | " << of("loo_others_named", "loo_others")
+       << " | " << fixed(c["seconds_per_frame"].get<double>(), 2) << " |\n";
+  }
+  return md.str() + "\n";
+}
+
+std::string markdown(const std::vector<FoldReport>& reports, const nlohmann::json& grid,
+                     const Options& o, std::size_t variants) {
   std::ostringstream md;
   md << "## Real scenes (YCB-Video, each video one fold)\n\n"
      << "`make bench-real` at commit " << proxseg::bench::git_commit() << ", "
@@ -353,6 +373,7 @@ std::string markdown(const std::vector<FoldReport>& reports, const Options& o,
      << (variants > 1 ? "proxseg's variant for a fold is chosen on the other fold. " : "")
      << "The peers recognise proxseg's candidates with proxseg's naming rule; s/frame is in "
         "process (segment + recognise).\n\n";
+  md << grid_markdown(grid);
   for (const FoldReport& r : reports) {
     md << "**" << r.fold << "**\n\n"
        << "| method | segmented | named | pose ok | other names | left out: unknown | left "
@@ -461,7 +482,7 @@ int run(const Options& o) {
           {{"method", name}, {"counts", counts_json(result.counts)}, {"notes", result.notes}});
     summary["folds"].push_back({{"fold", r.fold}, {"methods", methods}});
   }
-  const std::string md = markdown(reports, o, variants.size());
+  const std::string md = markdown(reports, grid_json, o, variants.size());
   return proxseg::bench::finish(
       out, {{"real.md", md}, {"real.json", summary.dump(2) + "\n"}, {"objects.csv", objects_csv(reports)}},
       summary, md, o.json);

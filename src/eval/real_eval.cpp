@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace proxseg {
@@ -97,6 +98,16 @@ double share_in(const std::vector<int>& points, const std::vector<int>& truth) {
   return points.empty() ? 0 : double(n) / points.size();
 }
 
+// "name (N points at R m, score S, runner-up O T)".
+std::string describe_answer(const SceneObject& o) {
+  char buf[160];
+  const Recognition& r = o.recognition;
+  std::snprintf(buf, sizeof buf, " (%zu points at %.2f m, score %.2f, runner-up %s %.2f)",
+                o.points.size(), o.centroid.norm(), r.best.score, r.runner_up.object.c_str(),
+                r.runner_up.score);
+  return r.name + buf;
+}
+
 }  // namespace
 
 std::vector<RealObjectScore> score_segments(const YcbFrame& frame,
@@ -151,8 +162,7 @@ RealFrameScore score_recognition(const YcbFrame& frame, const std::vector<SceneO
   }
   for (std::size_t k = 0; k < objects.size(); ++k)
     if (!matched[k] && objects[k].recognition.name != "unknown")
-      out.other_names.push_back(objects[k].recognition.name + " (" +
-                                std::to_string(objects[k].points.size()) + " points)");
+      out.other_names.push_back(describe_answer(objects[k]));
   return out;
 }
 

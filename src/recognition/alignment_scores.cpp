@@ -3,6 +3,7 @@
 // (coverage, with the candidate's silhouette for occlusions), and all of them at once as
 // align() reports them (score_pose()).
 #include <proxseg/recognition/registration.hpp>
+#include <proxseg/recognition/visibility.hpp>
 
 #include "search_index.hpp"
 #include "transformation_estimation.hpp"
@@ -50,10 +51,26 @@ std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cl
 // points within a few spacings of the nearest one. Directions are taken on the plane tangent to
 // the unit sphere at the object's direction (a gnomonic projection, within 1 % of the angles
 // over an object's few degrees): no trigonometry, and a dense buffer over the object's cells.
-// Without `silhouette`, every visible point counts as inside.
+// Without `silhouette`, every visible point counts as inside. With `scene`, outside points that it
+// hides are counted apart (scene_hides()).
 namespace {
+
+// Whether the frame hides a point (sensor frame, metres): the sensor measured a surface more than
+// tolerance + 0.005 z^2 nearer there, so that the point's absence from the candidate says
+// nothing. Off the image or without a return there: not hidden (a missing return hides thin
+// and dark objects' surroundings too, and made pieces of clutter fit thin models).
+bool scene_hides(const DepthImage& scene, const Eigen::Vector3d& q, double tolerance) {
+  if (!(q.z() > 0)) return false;
+  const long u = std::lround(scene.fx * q.x() / q.z() + scene.cx);
+  const long v = std::lround(scene.fy * q.y() / q.z() + scene.cy);
+  if (u < 0 || v < 0 || u >= scene.width || v >= scene.height) return false;
+  const float measured = scene.z[static_cast<std::size_t>(v) * scene.width + u];
+  return std::isfinite(measured) && measured < q.z() - tolerance - 0.005 * q.z() * q.z();
+}
+
 CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
-                              const Eigen::Matrix4d& pose, double delta, bool silhouette) {
+                              const Eigen::Matrix4d& pose, double delta, bool silhouette,
+                              const DepthImage* scene = nullptr, double tolerance = 0) {
   CoverageCounts out;
   const Eigen::Vector3d axis = apply(pose, view.centroid) - candidate.viewpoint;
   const double range = axis.norm();
@@ -110,6 +127,10 @@ CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
   }
   for (std::size_t j = 0; j < view.size(); ++j) {
     if (depth[j] < 0 || depth[j] > zbuf[key[j]] + 2 * spacing) continue;
+    if (!seen[key[j]] && scene && scene_hides(*scene, q[j] + candidate.viewpoint, tolerance)) {
+      ++out.hidden;
+      continue;
+    }
     ++(seen[key[j]] ? out.inside : out.outside);
     double d2 = 0;
     out.explained += nearest(candidate.index->points, q[j] + candidate.viewpoint, delta, d2) >= 0 &&
@@ -122,6 +143,13 @@ CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
 CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
                                const Eigen::Matrix4d& pose, double delta) {
   return count_coverage(candidate, view, pose, delta, true);
+}
+
+CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
+                               const Eigen::Matrix4d& pose, double delta, const DepthImage& scene,
+                               double tolerance) {
+  return count_coverage(candidate, view, pose, delta, true, scene.empty() ? nullptr : &scene,
+                        tolerance);
 }
 
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,

@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace proxseg {
 namespace {
@@ -88,6 +89,22 @@ struct BatchAligner {
   const DepthImage* scene;
   int threads;
 
+  // What the rest of the frame says of a pose: free space, the image border, hidden points.
+  void judge_in_scene(Alignment& a, const Cloud& view) const {
+    a.free_space = free_space_violation(*scene, view, a.pose, params.free_space_tolerance);
+    a.border_unexplained =
+        border_unexplained(*scene, candidate, view, a.pose, params.registration.fitness_distance);
+    if (!params.hidden_coverage) return;
+    const CoverageCounts c = coverage_counts(candidate, view, a.pose,
+                                             params.registration.score_distance, *scene,
+                                             params.free_space_tolerance);
+    const double visible = c.inside + c.outside, all = visible + c.hidden;
+    const double counted = c.inside + params.registration.coverage_outside_weight * c.outside;
+    a.coverage = visible > 0 ? c.explained / visible : 0;
+    a.occluded_coverage = counted > 0 ? std::min(1.0, c.explained / counted) : 0;
+    a.hidden = all > 0 ? c.hidden / all : 0;
+  }
+
   void operator()(const std::vector<int>& views, int begin, int end, Recognition& r,
                   std::vector<char>& done, std::vector<std::string>& unreadable) const {
     detail::FirstError failure;  // out of memory in one alignment: the candidate fails
@@ -108,12 +125,7 @@ struct BatchAligner {
       try {
         r.alignments[v] = align(candidate, sample, *view, params.registration,
                                 mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
-        if (scene && params.free_space_tolerance > 0) {
-          Alignment& a = r.alignments[v];
-          a.free_space = free_space_violation(*scene, *view, a.pose, params.free_space_tolerance);
-          a.border_unexplained = border_unexplained(*scene, candidate, *view, a.pose,
-                                                    params.registration.fitness_distance);
-        }
+        if (scene && params.free_space_tolerance > 0) judge_in_scene(r.alignments[v], *view);
       } catch (...) {
         failure.capture();
         continue;
@@ -181,8 +193,20 @@ void choose_best(Recognition& r, const Database& db, const RecognitionParams& pa
 
 }  // namespace
 
-Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
-                      const std::vector<std::string>& objects, const DepthImage* scene) {
+RecognitionParams at_range(const RecognitionParams& params, const Cloud& candidate) {
+  RecognitionParams out = params;
+  RegistrationParams& g = out.registration;
+  const double range = (candidate.centroid - candidate.viewpoint).norm();
+  if (g.score_distance_slope > 0 && std::isfinite(range))
+    g.score_distance = std::max(g.score_distance, g.score_distance_slope * range);
+  return out;
+}
+
+Recognition recognize(const Cloud& candidate, const Database& db,
+                      const RecognitionParams& given_params, const std::vector<std::string>& objects,
+                      const DepthImage* scene) {
+  // The sensor's error at the candidate's range sets the score's distance.
+  const RecognitionParams params = at_range(given_params, candidate);
   Recognition r;
   const int n = static_cast<int>(db.views.size());
   r.alignments.assign(n, Alignment{});

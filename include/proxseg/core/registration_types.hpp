@@ -57,6 +57,12 @@ struct RegistrationParams {
   // The ranking score's distance (recognition.hpp, Score::kSymmetric): tighter than delta_th, so
   // that a box face is not explained by the flat top of a can of about the same size.
   double score_distance = 0.005;
+  // A real sensor's error grows with range [extension, docs/method.md "Real sensors"]: > 0 scores
+  // a candidate at range r with max(score_distance, score_distance_slope x r). 90 % of a real
+  // object's points lie within 6.3-6.8 mm per metre of range of its model put at the true pose
+  // (YCB-Video, both scenes), but at 0.0066 the wider distance let pieces of clutter 1-1.6 m away
+  // fit thin models (8 other names on frames/): off until the decision can tell them apart.
+  double score_distance_slope = 0;
   // Weight of the visible view points that fall outside the candidate's silhouette in the
   // coverage that ranks the views (Alignment::occluded_coverage) [extension, docs/method.md "A
   // database that scales"]: an occlusion removes a region of the object that its model still
@@ -138,6 +144,10 @@ struct Alignment {
   // The share of the candidate's points at the image border that this view does not explain
   // (border_unexplained(), visibility.hpp); 0 when recognition has no depth image.
   double border_unexplained = 0;
+  // Share of the view's visible points outside the candidate's silhouette that the frame hides
+  // (something measured nearer, or no return there): left out of coverage and occluded_coverage
+  // (coverage_counts() with a scene); 0 when recognition has no depth image.
+  double hidden = 0;
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };

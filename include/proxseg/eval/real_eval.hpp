@@ -60,7 +60,7 @@ struct RealObjectScore {
 struct RealFrameScore {
   std::vector<RealObjectScore> objects;  // the scored (>= min_pixels) labelled objects
   // Names given to a recognised object that is not the match of a labelled object of that name:
-  // "name (points)".
+  // "name (N points at R m, score S, runner-up O T)".
   std::vector<std::string> other_names;
 };
 

@@ -51,6 +51,9 @@ Cloud describe_candidate(const std::vector<Eigen::Vector3d>& points, const Datab
 std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int shortlist,
                                  const std::vector<std::string>& objects = {}, bool parts = true,
                                  std::vector<std::string>* damaged = nullptr);
+// The parameters recognition uses for a candidate: the score distance at its range
+// (RegistrationParams::score_distance_slope).
+RecognitionParams at_range(const RecognitionParams& params, const Cloud& candidate);
 // Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
 // With `scene` (the frame's depth image; recognize_scene() passes it when free_space_tolerance >
 // 0), every alignment is also checked against the sensor's free space.

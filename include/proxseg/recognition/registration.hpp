@@ -93,9 +93,18 @@ double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d&
 // point), and those with a candidate point within delta.
 struct CoverageCounts {
   int inside = 0, outside = 0, explained = 0;
+  int hidden = 0;  // outside points the scene hides (with a scene only; in neither count above)
 };
 CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
                                const Eigen::Matrix4d& pose, double delta);
+struct DepthImage;  // visibility.hpp
+// The same with the frame's depths (candidate in the sensor frame): a visible point outside the
+// candidate's silhouette where the sensor measured a surface more than tolerance + 0.005 z^2
+// nearer (an occluder) or nothing (no return) is hidden, counted in `hidden` only: the model
+// may well be there, unseen [extension, docs/method.md "Real sensors"].
+CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
+                               const Eigen::Matrix4d& pose, double delta, const DepthImage& scene,
+                               double tolerance);
 // explained / (inside + outside_weight x outside), at most 1; outside_weight 1 (the model-side
 // term of the score as it was) needs no silhouette.
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
