@@ -12,6 +12,7 @@
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/parameters.hpp>
 #include <proxseg/eval/real_eval.hpp>
+#include <proxseg/eval/sensor_figures.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
@@ -338,6 +339,44 @@ std::vector<std::pair<std::string, FoldResult>> proxseg_cross_fold(
   return out;
 }
 
+// The sensor's figures of each fold (sensor_figures.hpp): what a generated scene should match.
+std::string sensor_markdown(const std::vector<Fold>& folds, const proxseg::YcbModels& models) {
+  std::ostringstream md;
+  md << "Sensor figures measured on the folds (docs/method.md \"Real sensors\"): distance of an "
+        "object's points to its model at the true pose per metre of range (median over the "
+        "objects of each frame), missing returns on labelled pixels within 3 px of another label "
+        "and inside, and the median axial RMS of planar 14 x 14 px patches by range (bins of "
+        ">= 20 patches):\n\n| fold | objects' range, m | residual p50, mm/m | residual p90, "
+        "mm/m | missing at borders | missing inside | planar noise, mm (range m) |\n"
+        "|---|---|---|---|---|---|---|\n";
+  for (const Fold& f : folds) {
+    proxseg::SensorFigures s;
+    for (const auto& y : f.frames) s += proxseg::measure_sensor(y, models);
+    std::vector<double> range, p50, p90;
+    for (const auto& r : s.residuals) {
+      if (!(r.range > 0)) continue;
+      range.push_back(r.range);
+      p50.push_back(1000 * r.p50 / r.range);
+      p90.push_back(1000 * r.p90 / r.range);
+    }
+    const auto median = [](std::vector<double> v) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    const auto [lo, hi] = std::minmax_element(range.begin(), range.end());
+    md << "| " << f.name << " | " << (range.empty() ? "-" : fixed(*lo, 2) + "-" + fixed(*hi, 2))
+       << " | " << fixed(median(p50), 1) << " | " << fixed(median(p90), 1) << " | "
+       << proxseg::bench::percent(s.border ? double(s.border_missing) / s.border : 0) << " % | "
+       << proxseg::bench::percent(s.inside ? double(s.inside_missing) / s.inside : 0) << " % | ";
+    for (std::size_t b = 0; b < s.patches.size(); ++b)
+      if (s.patches[b] >= 20)
+        md << fixed(1000 * s.patch_rms[b], 2) << " (" << fixed(0.1 * b + 0.05, 2) << ") ";
+    md << "|\n";
+  }
+  return md.str() + "\n";
+}
+
 // Every variant on every fold: what each rule buys on real frames.
 std::string grid_markdown(const nlohmann::json& grid) {
   std::ostringstream md;
@@ -359,7 +398,7 @@ std::string grid_markdown(const nlohmann::json& grid) {
 }
 
 std::string markdown(const std::vector<FoldReport>& reports, const nlohmann::json& grid,
-                     const Options& o, std::size_t variants) {
+                     const std::string& sensor, const Options& o, std::size_t variants) {
   std::ostringstream md;
   md << "## Real scenes (YCB-Video, each video one fold)\n\n"
      << "`make bench-real` at commit " << proxseg::bench::git_commit() << ", "
@@ -373,7 +412,7 @@ std::string markdown(const std::vector<FoldReport>& reports, const nlohmann::jso
      << (variants > 1 ? "proxseg's variant for a fold is chosen on the other fold. " : "")
      << "The peers recognise proxseg's candidates with proxseg's naming rule; s/frame is in "
         "process (segment + recognise).\n\n";
-  md << grid_markdown(grid);
+  md << sensor << grid_markdown(grid);
   for (const FoldReport& r : reports) {
     md << "**" << r.fold << "**\n\n"
        << "| method | segmented | named | pose ok | other names | left out: unknown | left "
@@ -482,7 +521,8 @@ int run(const Options& o) {
           {{"method", name}, {"counts", counts_json(result.counts)}, {"notes", result.notes}});
     summary["folds"].push_back({{"fold", r.fold}, {"methods", methods}});
   }
-  const std::string md = markdown(reports, grid_json, o, variants.size());
+  const std::string md =
+      markdown(reports, grid_json, sensor_markdown(folds, models), o, variants.size());
   return proxseg::bench::finish(
       out, {{"real.md", md}, {"real.json", summary.dump(2) + "\n"}, {"objects.csv", objects_csv(reports)}},
       summary, md, o.json);

@@ -28,6 +28,7 @@
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/eval/scene_names.hpp>
 #include <proxseg/eval/seg_scores.hpp>
+#include <proxseg/eval/sensor_figures.hpp>
 #include <proxseg/eval/seg_summary.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/batch.hpp>

@@ -75,6 +75,7 @@ YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
       if (label[i] == o.class_index && y.frame.valid(i)) o.points.push_back(static_cast<int>(i));
     y.objects.push_back(std::move(o));
   }
+  y.labels = label;
   return y;
 }
 

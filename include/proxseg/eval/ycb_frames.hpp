@@ -5,6 +5,7 @@
 #include <proxseg/core/rgbd.hpp>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@ struct YcbFrame {
   Frame frame;            // camera frame, organized
   Intrinsics intrinsics;  // from -meta.json
   std::vector<ObjectTruth> objects;
+  std::vector<std::uint8_t> labels;  // -label.png per pixel (class index, 0 = background)
 };
 // Reads DIR/<stem>-color.png, -depth.png, -label.png and -meta.json; classes from classes.txt.
 YcbFrame read_ycb_frame(const std::string& dir, const std::string& stem,
