@@ -121,59 +121,20 @@ struct FoldResult {
   std::vector<std::string> notes;  // other names and leave-one-out failures, "frame: what"
 };
 
-// Recognised objects of one frame with a database; the method's own segmentation is made once
-// per frame and reused for the leave-one-out databases.
-using Recognizer = std::function<std::vector<proxseg::SceneObject>(const proxseg::Database&)>;
-using FrameRecognizer = std::function<Recognizer(const proxseg::YcbFrame&)>;
-
-// A frame's recognition with the whole database, then leave-one-out for each scored object.
-void run_frame(const Fold& fold, std::size_t k, const std::string& method,
-               const FrameRecognizer& make, const proxseg::Database& db,
-               const proxseg::YcbModels& models, FoldResult& out) {
-  const proxseg::YcbFrame& y = fold.frames[k];
-  const std::string& frame = fold.stems[k];
-  const auto start = Clock::now();
-  const Recognizer recognize = make(y);
-  const std::vector<proxseg::SceneObject> objects = recognize(db);
-  out.counts.seconds += seconds_since(start);
-  ++out.counts.frames;
-  const proxseg::RealFrameScore score = proxseg::score_recognition(y, objects, models);
-  out.counts.add(score);
-  for (const auto& s : score.objects) out.rows.push_back({fold.name, method, frame, s});
-  for (const auto& n : score.other_names) out.notes.push_back(frame + ": other name " + n);
-  for (const auto& s : score.objects)
-    if (!s.right())
-      out.notes.push_back(frame + ": " + s.object + " (IoU " + fixed(s.iou, 2) + ") as " +
-                          (s.named.empty() ? "no object" : s.named) + ": best " + s.best + " " +
-                          fixed(s.score, 2) + ", runner-up " + s.runner_up + " " +
-                          fixed(s.runner_up_score, 2));
-  for (const auto& s : score.objects) {
-    const proxseg::LeaveOneOutScore l = proxseg::score_leave_one_out(
-        y, s.object, recognize(proxseg::without_object(db, s.object)), models);
-    out.counts.add(l);
-    if (!l.missing_named.empty())
-      out.notes.push_back(frame + ": without " + s.object + ", named " + l.missing_named);
-    if (l.others_named < l.others)
-      out.notes.push_back(frame + ": without " + s.object + ", " +
-                          std::to_string(l.others - l.others_named) + " other(s) not named");
-  }
-}
+using proxseg::DatabaseRecognizer;
+using proxseg::FrameRecognizer;
 
 FoldResult run_fold(const Fold& fold, const std::string& method, const FrameRecognizer& make,
                     const proxseg::Database& db, const proxseg::YcbModels& models) {
   FoldResult out;
-  for (std::size_t k = 0; k < fold.frames.size(); ++k)
-    run_frame(fold, k, method, make, db, models, out);
+  for (std::size_t k = 0; k < fold.frames.size(); ++k) {
+    proxseg::RealFrameResult r =
+        proxseg::evaluate_real_frame(fold.frames[k], fold.stems[k], make, db, models);
+    out.counts += r.counts;
+    for (const auto& o : r.objects) out.rows.push_back({fold.name, method, fold.stems[k], o});
+    out.notes.insert(out.notes.end(), r.notes.begin(), r.notes.end());
+  }
   return out;
-}
-
-FrameRecognizer proxseg_method(const Variant& v) {
-  return [&v](const proxseg::YcbFrame& y) -> Recognizer {
-    auto seg = std::make_shared<proxseg::SegmentResult>(proxseg::segment(y.frame, v.segment));
-    return [&v, &y, seg](const proxseg::Database& db) {
-      return proxseg::recognize_scene(y.frame, seg->selection, db, v.recognition);
-    };
-  };
 }
 
 // Segmentation alone: the labelled objects a method's segments hold at IoU >= 0.5.
@@ -201,7 +162,7 @@ FoldResult run_segmenter(const Fold& fold, const std::string& method, const Segm
 using Aligner = std::function<std::vector<proxseg::peers::PeerAlignment>(const proxseg::Cloud&)>;
 FrameRecognizer peer_method(const Aligner& align, const proxseg::Database& full,
                             const proxseg::RecognitionParams& rp, int threads) {
-  return [align, &full, &rp, threads](const proxseg::YcbFrame& y) -> Recognizer {
+  return [align, &full, &rp, threads](const proxseg::YcbFrame& y) -> DatabaseRecognizer {
     struct Aligned {
       proxseg::SceneObject object;
       proxseg::Cloud cloud;
@@ -317,7 +278,8 @@ std::vector<std::pair<std::string, FoldResult>> proxseg_cross_fold(
   for (std::size_t v = 0; v < variants.size(); ++v)
     for (const Fold& f : folds) {
       std::cerr << "real_bench: proxseg " << variants[v].name << " on " << f.name << "\n";
-      results[v].push_back(run_fold(f, "proxseg", proxseg_method(variants[v]), db, models));
+      results[v].push_back(run_fold(f, "proxseg",
+                     proxseg::proxseg_recognizer(variants[v].segment, variants[v].recognition), db, models));
       grid_json.push_back({{"variant", variants[v].name},
                            {"fold", f.name},
                            {"objective", objective(results[v].back().counts)},

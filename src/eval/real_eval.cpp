@@ -5,8 +5,11 @@
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
+#include <proxseg/recognition/recognition.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -202,6 +205,52 @@ void RealCounts::add(const LeaveOneOutScore& l) {
   loo_missing_unknown += l.missing_named.empty();
   loo_others += l.others;
   loo_others_named += l.others_named;
+}
+
+RealFrameResult evaluate_real_frame(const YcbFrame& frame, const std::string& name,
+                                    const FrameRecognizer& method, const Database& db,
+                                    const YcbModels& models, const RealEvalParams& params) {
+  RealFrameResult out;
+  const auto start = std::chrono::steady_clock::now();
+  const DatabaseRecognizer recognize = method(frame);
+  const std::vector<SceneObject> objects = recognize(db);
+  out.counts.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.counts.frames = 1;
+  const RealFrameScore score = score_recognition(frame, objects, models, params);
+  out.counts.add(score);
+  out.objects = score.objects;
+  for (const auto& n : score.other_names) out.notes.push_back(name + ": other name " + n);
+  for (const auto& s : score.objects)
+    if (!s.right()) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "%s: %s (IoU %.2f) as %s: best %s %.2f, runner-up %s %.2f",
+                    name.c_str(), s.object.c_str(), s.iou,
+                    s.named.empty() ? "no object" : s.named.c_str(), s.best.c_str(), s.score,
+                    s.runner_up.c_str(), s.runner_up_score);
+      out.notes.push_back(buf);
+    }
+  for (const auto& s : score.objects) {
+    const LeaveOneOutScore l =
+        score_leave_one_out(frame, s.object, recognize(without_object(db, s.object)), models, params);
+    out.counts.add(l);
+    if (!l.missing_named.empty())
+      out.notes.push_back(name + ": without " + s.object + ", named " + l.missing_named);
+    if (l.others_named < l.others)
+      out.notes.push_back(name + ": without " + s.object + ", " +
+                          std::to_string(l.others - l.others_named) + " other(s) not named");
+  }
+  return out;
+}
+
+FrameRecognizer proxseg_recognizer(const SegmentParams& segment,
+                                   const RecognitionParams& recognition) {
+  return [segment, recognition](const YcbFrame& y) -> DatabaseRecognizer {
+    auto seg = std::make_shared<const SegmentResult>(proxseg::segment(y.frame, segment));
+    return [recognition, &y, seg](const Database& db) {
+      return recognize_scene(y.frame, seg->selection, db, recognition);
+    };
+  };
 }
 
 RealCounts& RealCounts::operator+=(const RealCounts& o) {

@@ -179,13 +179,20 @@ void choose_best(Recognition& r, const Database& db, const RecognitionParams& pa
     m.free_space = a.free_space;
     return m;
   };
-  for (int v = 0; v < n; ++v) {
-    if (!done[v]) continue;
-    const Match m = to_match(v);
-    if (r.best.view < 0 || m.rank > r.best.rank) r.best = m;
+  // Views that explain only a part of the candidate compete neither as the answer nor as its
+  // rival (RecognitionParams::explain_fitness); when none explains it, the best of all is kept
+  // to report, and the answer is unknown (recognize()).
+  const auto explains = [&](int v) { return r.alignments[v].fitness >= params.explain_fitness; };
+  for (const bool whole : {true, false}) {
+    for (int v = 0; v < n; ++v) {
+      if (!done[v] || (whole && !explains(v))) continue;
+      const Match m = to_match(v);
+      if (r.best.view < 0 || m.rank > r.best.rank) r.best = m;
+    }
+    if (r.best.view >= 0) break;
   }
   for (int v = 0; v < n; ++v) {
-    if (!done[v] || db.views[v].object == r.best.object) continue;
+    if (!done[v] || db.views[v].object == r.best.object || !explains(v)) continue;
     const Match m = to_match(v);
     if (r.runner_up.view < 0 || m.score > r.runner_up.score) r.runner_up = m;
   }
@@ -245,7 +252,8 @@ Recognition recognize(const Cloud& candidate, const Database& db,
                     r.alignments[r.best.view].coloured;
   const bool named = r.lookalike_decided ? r.best.score >= params.min_score
                                          : names_best(r.best.score, runner_up, params, lone);
-  r.name = r.best.view >= 0 && named ? r.best.object : "unknown";
+  r.name = r.best.view >= 0 && named && r.best.fitness >= params.explain_fitness ? r.best.object
+                                                                               : "unknown";
   return r;
 }
 

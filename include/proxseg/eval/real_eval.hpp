@@ -5,11 +5,13 @@
 // scene seen several times, not independent samples.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition_types.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -95,5 +97,26 @@ struct RealCounts {
   void add(const LeaveOneOutScore& l);
   RealCounts& operator+=(const RealCounts& o);
 };
+
+// A method's recognised objects of one frame for a database (the full one or one without an
+// object); made once per frame so that its segmentation serves every database.
+using DatabaseRecognizer = std::function<std::vector<SceneObject>(const Database&)>;
+using FrameRecognizer = std::function<DatabaseRecognizer(const YcbFrame&)>;
+
+// What a frame's evaluation adds: its counts (wall time of the whole database's recognition,
+// leave-one-out not timed), its scored objects and its misses, "FRAME: what".
+struct RealFrameResult {
+  RealCounts counts;
+  std::vector<RealObjectScore> objects;
+  std::vector<std::string> notes;
+};
+// The frame recognised with the whole database, then once per scored object without it.
+RealFrameResult evaluate_real_frame(const YcbFrame& frame, const std::string& name,
+                                    const FrameRecognizer& method, const Database& db,
+                                    const YcbModels& models, const RealEvalParams& params = {});
+// proxseg as a FrameRecognizer: segment() once, recognize_scene() per database. The parameters
+// are copied.
+FrameRecognizer proxseg_recognizer(const SegmentParams& segment,
+                                   const RecognitionParams& recognition);
 
 }  // namespace proxseg
