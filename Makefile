@@ -37,6 +37,9 @@
 #                   frames (fails above 5 % growth)
 #   make bench-view  only the pages of `proxseg view`: sizes, time to open and to turn, in
 #                   headless Chromium, for 55 real frames and batch logs of 1,000-1,000,000 frames
+#   make bench-real  only the real YCB-Video scenes, each video one fold: segmented, named, pose,
+#                   other names, leave-one-out, s/frame and the sensor's figures, proxseg's rules
+#                   chosen on one fold and scored on the other, PCL LCCP, Open3D and OpenCV PPF
 BUILD ?= build
 # The Python the module is built for (python/CMakeLists.txt prefers Debian's).
 PYTHON ?= /usr/bin/python3

@@ -56,6 +56,12 @@ int tell_lookalikes(const Cloud& candidate, const Cloud& best_view, const Alignm
   return lookalike_winner(v, params.lookalike_share, params.lookalike_agreement, kMinVotes);
 }
 
+bool explains_candidate(const ModelView& view, const Alignment& a, const RecognitionParams& params) {
+  // A partial view may rightly explain only a part of a candidate seen from elsewhere.
+  const bool full_model = !view.viewpoint.allFinite();
+  return !full_model || a.fitness >= params.explain_fitness;
+}
+
 bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone) {
   const bool clear = score - runner_up >= params.min_margin || score >= params.confident_score;
   if (score >= params.min_score && clear) return true;
@@ -179,10 +185,10 @@ void choose_best(Recognition& r, const Database& db, const RecognitionParams& pa
     m.free_space = a.free_space;
     return m;
   };
-  // Views that explain only a part of the candidate compete neither as the answer nor as its
-  // rival (RecognitionParams::explain_fitness); when none explains it, the best of all is kept
-  // to report, and the answer is unknown (recognize()).
-  const auto explains = [&](int v) { return r.alignments[v].fitness >= params.explain_fitness; };
+  // Full models that explain only a part of the candidate compete neither as the answer nor as
+  // its rival (RecognitionParams::explain_fitness); when none explains it, the best of all is
+  // kept to report, and the answer is unknown (recognize()).
+  const auto explains = [&](int v) { return explains_candidate(db.views[v], r.alignments[v], params); };
   for (const bool whole : {true, false}) {
     for (int v = 0; v < n; ++v) {
       if (!done[v] || (whole && !explains(v))) continue;
@@ -252,8 +258,10 @@ Recognition recognize(const Cloud& candidate, const Database& db,
                     r.alignments[r.best.view].coloured;
   const bool named = r.lookalike_decided ? r.best.score >= params.min_score
                                          : names_best(r.best.score, runner_up, params, lone);
-  r.name = r.best.view >= 0 && named && r.best.fitness >= params.explain_fitness ? r.best.object
-                                                                               : "unknown";
+  r.name = r.best.view >= 0 && named &&
+                   explains_candidate(db.views[r.best.view], r.alignments[r.best.view], params)
+               ? r.best.object
+               : "unknown";
   return r;
 }
 

@@ -49,12 +49,14 @@ struct RecognitionParams {
   // the candidate and of its own visible surface names it even when a look-alike comes close
   // (the YCB-Video gelatin box, 0.89, against the pudding box, 0.76, by shape alone).
   double confident_score = 0.8;
-  // An answer explains the candidate [extension, docs/method.md "Real sensors"]: only views with
-  // a fitness (eq. 5) of at least this compete as the answer or its runner-up; with none, the
-  // answer is "unknown". A model that explains a part of the candidate (a small box on a big
-  // box's face, a mug on a can) would need another object beside it to explain the rest: it is
-  // neither the answer nor a rival of one that explains it all. 0 = every view. Chosen on the
-  // real video0001 (named 8 -> 14 of 20 at 0.85, 0.8 and 0.9 alike), no change on frames/.
+  // An answer explains the candidate [extension, docs/method.md "Real sensors"]: a full model
+  // (a view without a viewpoint, such as `db add --xyz` makes) competes as the answer or the
+  // runner-up only when its fitness (eq. 5) is at least this; with none, the answer is
+  // "unknown". A model that explains a part of the candidate (a small box on a big box's face,
+  // a mug on a can) would need another object beside it to explain the rest: it is neither the
+  // answer nor a rival of one that explains it all. Partial views are not held to it: they may
+  // rightly explain only what they saw of a candidate seen from elsewhere. 0 = every view.
+  // Chosen on the real video0001 (named 8 -> 14 of 20 at 0.8-0.9); no change on frames/.
   double explain_fitness = 0.85;
   // A lone match [extension, docs/method.md "Recognition that generalises"]: a best score under
   // min_score but at least lone_score still names the object when the runner-up scores at most

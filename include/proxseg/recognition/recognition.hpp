@@ -20,6 +20,10 @@ namespace proxseg {
 // runner-up from the whole shortlist), score >= lone_score and runner_up <= lone_ratio x score.
 // runner_up: the best score of another object, 0 when there is none.
 bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone = false);
+// Whether a view aligned to a candidate may be its answer or the runner-up: a full model (a
+// view with no viewpoint, seen from everywhere) must explain explain_fitness of the candidate;
+// a partial view always may (the candidate may show sides the view does not).
+bool explains_candidate(const ModelView& view, const Alignment& a, const RecognitionParams& params);
 
 // The look-alike vote [extension, docs/method.md "Recognition that generalises"] between the
 // best view of a candidate and the runner-up (the best view of another object), each with its
