@@ -19,8 +19,7 @@ PeerAnswer name_alignments(const Cloud& candidate, const std::vector<PeerAlignme
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int v = 0; v < n; ++v)
     if (used[v]) {  // no hypothesis, no pose to score
-      scored[v] = score_pose(candidate, db.views[v].cloud(), aligned[v].pose,
-                             params.registration);
+      scored[v] = score_pose(candidate, db.views[v].cloud(), aligned[v].pose, params.registration);
       score[v] = score_of(scored[v], params.score);
       rank[v] = rank_of(scored[v], params.score);
     }
@@ -47,8 +46,8 @@ PeerAnswer name_alignments(const Cloud& candidate, const std::vector<PeerAlignme
   if (runner_up >= 0) p.runner_up = score[runner_up];
   p.colour = scored[best].coloured ? scored[best].colour : -1;
   const bool lone = runner_up >= 0 && scored[best].coloured;
-  const bool named = decided ? p.score >= params.min_score
-                             : names_best(p.score, p.runner_up, params, lone);
+  const bool named =
+      decided ? p.score >= params.min_score : names_best(p.score, p.runner_up, params, lone);
   if (named) p.name = p.best;
   return p;
 }

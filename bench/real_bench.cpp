@@ -9,8 +9,8 @@
 // OUT/real.md, real.json and objects.csv. Exit codes: 0 ok, 1 bad input, 2 usage.
 // Usage: real_bench [--ycbv DIR] [--folds LIST] [--grid FILE] [--peers all|none] [--threads T]
 //                   -o OUT [--json]
-#include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/parameters.hpp>
+#include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/real_eval.hpp>
 #include <proxseg/eval/sensor_figures.hpp>
 #include <proxseg/io/params.hpp>
@@ -98,8 +98,7 @@ struct Fold {
   std::vector<proxseg::YcbFrame> frames;
 };
 
-Fold read_fold(const std::string& ycbv, const std::string& name,
-               const proxseg::YcbModels& models) {
+Fold read_fold(const std::string& ycbv, const std::string& name, const proxseg::YcbModels& models) {
   Fold f{name, {}, {}};
   const std::string dir = (std::filesystem::path(ycbv) / name).string();
   f.stems = proxseg::ycb_frame_stems(dir);
@@ -278,8 +277,9 @@ std::vector<std::pair<std::string, FoldResult>> proxseg_cross_fold(
   for (std::size_t v = 0; v < variants.size(); ++v)
     for (const Fold& f : folds) {
       std::cerr << "real_bench: proxseg " << variants[v].name << " on " << f.name << "\n";
-      results[v].push_back(run_fold(f, "proxseg",
-                     proxseg::proxseg_recognizer(variants[v].segment, variants[v].recognition), db, models));
+      results[v].push_back(run_fold(
+          f, "proxseg", proxseg::proxseg_recognizer(variants[v].segment, variants[v].recognition),
+          db, models));
       grid_json.push_back({{"variant", variants[v].name},
                            {"fold", f.name},
                            {"objective", objective(results[v].back().counts)},
@@ -365,8 +365,8 @@ std::string markdown(const std::vector<FoldReport>& reports, const nlohmann::jso
   md << "## Real scenes (YCB-Video, each video one fold)\n\n"
      << "`make bench-real` at commit " << proxseg::bench::git_commit() << ", "
      << proxseg::bench::utc_now() << ", " << proxseg::bench::machine() << " (load "
-     << proxseg::bench::load_averages() << "). Database: the 21 YCB-Video models (`"
-     << o.ycbv << "/models/*/points.xyz`, no colour). Labelled objects of >= 200 valid pixels; "
+     << proxseg::bench::load_averages() << "). Database: the 21 YCB-Video models (`" << o.ycbv
+     << "/models/*/points.xyz`, no colour). Labelled objects of >= 200 valid pixels; "
      << "segmented = a candidate at IoU >= 0.5; named = that object carries the right name; "
      << "pose = ADD-S under 10 % of the diameter (of those named); other names = names on no "
      << "labelled object of that name; leave-one-out = each object's model missing in turn "
@@ -403,8 +403,7 @@ std::string objects_csv(const std::vector<FoldReport>& reports) {
             << row.score.pixels << "," << fixed(row.score.iou, 3) << "," << row.score.segmented
             << "," << row.score.named << "," << row.score.best << "," << fixed(row.score.score, 3)
             << "," << row.score.runner_up << "," << fixed(row.score.runner_up_score, 3) << ","
-            << fixed(row.score.add_s, 4) << ","
-            << row.score.pose_ok << "\n";
+            << fixed(row.score.add_s, 4) << "," << row.score.pose_ok << "\n";
   return csv.str();
 }
 
@@ -485,9 +484,11 @@ int run(const Options& o) {
   }
   const std::string md =
       markdown(reports, grid_json, sensor_markdown(folds, models), o, variants.size());
-  return proxseg::bench::finish(
-      out, {{"real.md", md}, {"real.json", summary.dump(2) + "\n"}, {"objects.csv", objects_csv(reports)}},
-      summary, md, o.json);
+  return proxseg::bench::finish(out,
+                                {{"real.md", md},
+                                 {"real.json", summary.dump(2) + "\n"},
+                                 {"objects.csv", objects_csv(reports)}},
+                                summary, md, o.json);
 }
 
 }  // namespace

@@ -42,8 +42,8 @@
 
 #include "bench_main.hpp"
 #include "bench_util.hpp"
-#include "peers_pcl.hpp"
 #include "peer_naming.hpp"
+#include "peers_pcl.hpp"
 #include "peers_rec.hpp"
 #include "progress.hpp"  // apps/progress.hpp: the CLI's progress bar
 
@@ -166,8 +166,8 @@ std::vector<std::vector<int>> segments_of(const std::vector<std::uint32_t>& labe
 
 // The peer pipeline: PCL's plane + Euclidean clusters as candidates (seg_bench's "PCL plane +
 // Euclidean"), each described like proxseg's candidates and aligned to every view by Open3D
-// (rec_bench's peer), named exactly as proxseg::recognize does (peer_naming.hpp). A cluster too small to describe is not made, as
-// recognize_scene() does with such candidates.
+// (rec_bench's peer), named exactly as proxseg::recognize does (peer_naming.hpp). A cluster too
+// small to describe is not made, as recognize_scene() does with such candidates.
 std::vector<Prediction> peer_scene(const proxseg::Frame& frame, const proxseg::Database& db,
                                    const proxseg::peers::Open3dPeer& open3d,
                                    const proxseg::RecognitionParams& rp, int threads) {

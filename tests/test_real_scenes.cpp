@@ -36,11 +36,11 @@ class RealScenes : public ::testing::Test {
       for (const std::string& n : r.notes) std::printf("  %s: %s\n", fold.c_str(), n.c_str());
       counts += r.counts;
     }
-    std::printf("%s: named %d/%d, pose %d, other names %d, left out unknown %d/%d, others named "
-                "%d/%d\n",
-                fold.c_str(), counts.named, counts.objects, counts.pose_ok, counts.other_names,
-                counts.loo_missing_unknown, counts.loo_cases, counts.loo_others_named,
-                counts.loo_others);
+    std::printf(
+        "%s: named %d/%d, pose %d, other names %d, left out unknown %d/%d, others named "
+        "%d/%d\n",
+        fold.c_str(), counts.named, counts.objects, counts.pose_ok, counts.other_names,
+        counts.loo_missing_unknown, counts.loo_cases, counts.loo_others_named, counts.loo_others);
     return counts;
   }
   static YcbModels models_;

@@ -47,17 +47,17 @@ BOOST_FUSION_ADAPT_STRUCT(proxseg::OcclusionParams, enabled, window, min_rays, m
 BOOST_FUSION_ADAPT_STRUCT(proxseg::ContainerParams, enabled, min_radius, max_radius, circle_rms,
                           rim_tolerance, min_depth)
 BOOST_FUSION_ADAPT_STRUCT(proxseg::RecognitionParams, registration, score, min_score, min_margin,
-                          confident_score, explain_fitness, shortlist, shortlist_parts, trial_shortlist, early_exit,
-                          early_reject, lone_score, lone_ratio, lookalike_share,
-                          lookalike_agreement, lookalike_shape, split_fitness, merge_distance,
-                          merge_unnamed, min_part_points, free_space_tolerance, hidden_coverage, seed,
-                          threads)
+                          confident_score, explain_fitness, shortlist, shortlist_parts,
+                          trial_shortlist, early_exit, early_reject, lone_score, lone_ratio,
+                          lookalike_share, lookalike_agreement, lookalike_shape, split_fitness,
+                          merge_distance, merge_unnamed, min_part_points, free_space_tolerance,
+                          hidden_coverage, seed, threads)
 BOOST_FUSION_ADAPT_STRUCT(proxseg::RegistrationParams, multi_radius, ransac_iterations,
                           ransac_distance, edge_similarity, normal_tolerance_deg, ransac_candidates,
                           mutual_filter, max_points, icp_iterations, icp_starts, icp_distance,
                           point_to_plane, fitness_distance, score_distance, score_distance_slope,
-                          coverage_outside_weight,
-                          colour_compare, colour_alignment, brightness_sigma)
+                          coverage_outside_weight, colour_compare, colour_alignment,
+                          brightness_sigma)
 
 namespace proxseg::detail {
 

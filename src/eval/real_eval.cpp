@@ -9,10 +9,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 namespace proxseg {
 
@@ -231,8 +231,8 @@ RealFrameResult evaluate_real_frame(const YcbFrame& frame, const std::string& na
       out.notes.push_back(buf);
     }
   for (const auto& s : score.objects) {
-    const LeaveOneOutScore l =
-        score_leave_one_out(frame, s.object, recognize(without_object(db, s.object)), models, params);
+    const LeaveOneOutScore l = score_leave_one_out(
+        frame, s.object, recognize(without_object(db, s.object)), models, params);
     out.counts.add(l);
     if (!l.missing_named.empty())
       out.notes.push_back(name + ": without " + s.object + ", named " + l.missing_named);

@@ -104,7 +104,8 @@ SensorFigures measure_sensor(const YcbFrame& frame, const YcbModels& models) {
   const Frame& f = frame.frame;
   measure_patches(f, s.patches, s.patch_rms);
   for (const ObjectTruth& o : frame.objects)
-    if (models.points.count(o.name)) s.residuals.push_back(residual(f, o, models.points.at(o.name)));
+    if (models.points.count(o.name))
+      s.residuals.push_back(residual(f, o, models.points.at(o.name)));
   if (frame.labels.size() != f.size()) return s;
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) {

@@ -56,7 +56,8 @@ int tell_lookalikes(const Cloud& candidate, const Cloud& best_view, const Alignm
   return lookalike_winner(v, params.lookalike_share, params.lookalike_agreement, kMinVotes);
 }
 
-bool explains_candidate(const ModelView& view, const Alignment& a, const RecognitionParams& params) {
+bool explains_candidate(const ModelView& view, const Alignment& a,
+                        const RecognitionParams& params) {
   // A partial view may rightly explain only a part of a candidate seen from elsewhere.
   const bool full_model = !view.viewpoint.allFinite();
   return !full_model || a.fitness >= params.explain_fitness;
@@ -101,9 +102,9 @@ struct BatchAligner {
     a.border_unexplained =
         border_unexplained(*scene, candidate, view, a.pose, params.registration.fitness_distance);
     if (!params.hidden_coverage) return;
-    const CoverageCounts c = coverage_counts(candidate, view, a.pose,
-                                             params.registration.score_distance, *scene,
-                                             params.free_space_tolerance);
+    const CoverageCounts c =
+        coverage_counts(candidate, view, a.pose, params.registration.score_distance, *scene,
+                        params.free_space_tolerance);
     const double visible = c.inside + c.outside, all = visible + c.hidden;
     const double counted = c.inside + params.registration.coverage_outside_weight * c.outside;
     a.coverage = visible > 0 ? c.explained / visible : 0;
@@ -188,7 +189,9 @@ void choose_best(Recognition& r, const Database& db, const RecognitionParams& pa
   // Full models that explain only a part of the candidate compete neither as the answer nor as
   // its rival (RecognitionParams::explain_fitness); when none explains it, the best of all is
   // kept to report, and the answer is unknown (recognize()).
-  const auto explains = [&](int v) { return explains_candidate(db.views[v], r.alignments[v], params); };
+  const auto explains = [&](int v) {
+    return explains_candidate(db.views[v], r.alignments[v], params);
+  };
   for (const bool whole : {true, false}) {
     for (int v = 0; v < n; ++v) {
       if (!done[v] || (whole && !explains(v))) continue;
@@ -216,8 +219,8 @@ RecognitionParams at_range(const RecognitionParams& params, const Cloud& candida
 }
 
 Recognition recognize(const Cloud& candidate, const Database& db,
-                      const RecognitionParams& given_params, const std::vector<std::string>& objects,
-                      const DepthImage* scene) {
+                      const RecognitionParams& given_params,
+                      const std::vector<std::string>& objects, const DepthImage* scene) {
   // The sensor's error at the candidate's range sets the score's distance.
   const RecognitionParams params = at_range(given_params, candidate);
   Recognition r;

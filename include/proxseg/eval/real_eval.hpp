@@ -46,16 +46,16 @@ struct RealEvalParams {
 // One labelled object of one frame.
 struct RealObjectScore {
   std::string object;
-  int pixels = 0;         // its valid labelled pixels
-  double iou = 0;         // with the candidate (or recognised object) that overlaps it most
-  std::string named;      // that object's name ("" when no object reaches min_iou)
+  int pixels = 0;     // its valid labelled pixels
+  double iou = 0;     // with the candidate (or recognised object) that overlaps it most
+  std::string named;  // that object's name ("" when no object reaches min_iou)
   // That object's best view and runner-up (Recognition::best, ::runner_up): what the answer
   // was made of.
   std::string best, runner_up;
   double score = 0, runner_up_score = 0;
-  double add_s = -1;      // metres, when named right; else -1
-  bool pose_ok = false;   // named right and ADD-S under pose_share x diameter
-  bool segmented = false; // iou >= min_iou
+  double add_s = -1;       // metres, when named right; else -1
+  bool pose_ok = false;    // named right and ADD-S under pose_share x diameter
+  bool segmented = false;  // iou >= min_iou
   bool right() const { return segmented && named == object; }
 };
 
