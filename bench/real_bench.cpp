@@ -184,6 +184,7 @@ FrameRecognizer peer_method(const Aligner& align, const proxseg::Database& full,
         continue;  // too small to describe: recognize_scene() makes no object of it either
       }
       a.object.points = c.points;
+      a.object.centroid = a.cloud.centroid;
       a.alignments = align(a.cloud);
       candidates->push_back(std::move(a));
     }
