@@ -136,6 +136,7 @@ FoldResult run_fold(const Fold& fold, const std::string& method, const FrameReco
   return out;
 }
 
+#ifdef PROXSEG_WITH_PEERS
 // Segmentation alone: the labelled objects a method's segments hold at IoU >= 0.5.
 using Segmenter = std::function<std::vector<std::uint32_t>(const proxseg::Frame&)>;
 FoldResult run_segmenter(const Fold& fold, const std::string& method, const Segmenter& segment) {
@@ -153,6 +154,7 @@ FoldResult run_segmenter(const Fold& fold, const std::string& method, const Segm
   }
   return out;
 }
+#endif
 
 #ifdef PROXSEG_WITH_PEERS
 // A registration peer on proxseg's candidates (the default segmentation's selection, background

@@ -44,7 +44,7 @@ Recognition recognize_again(const ClutterScene& scene, const SceneObject& o, con
     rgb.push_back(scene.frame.rgb[i]);
   }
   const DepthImage depths = depth_image(scene.frame);
-  return recognize(describe_candidate(xyz, db, &rgb), db, params, {}, &depths);
+  return recognize(describe_candidate(xyz, db, &rgb), db, params, {}, {&depths});
 }
 
 }  // namespace

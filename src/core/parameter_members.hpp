@@ -47,11 +47,11 @@ BOOST_FUSION_ADAPT_STRUCT(proxseg::OcclusionParams, enabled, window, min_rays, m
 BOOST_FUSION_ADAPT_STRUCT(proxseg::ContainerParams, enabled, min_radius, max_radius, circle_rms,
                           rim_tolerance, min_depth)
 BOOST_FUSION_ADAPT_STRUCT(proxseg::RecognitionParams, registration, score, min_score, min_margin,
-                          confident_score, explain_fitness, shortlist, shortlist_parts,
+                          confident_score, explain_fitness, support_gap, shortlist, shortlist_parts,
                           trial_shortlist, early_exit, early_reject, lone_score, lone_ratio,
                           lookalike_share, lookalike_agreement, lookalike_shape, split_fitness,
                           merge_distance, merge_unnamed, min_part_points, free_space_tolerance,
-                          hidden_coverage, seed, threads)
+                          hidden_depth, seed, threads)
 BOOST_FUSION_ADAPT_STRUCT(proxseg::RegistrationParams, multi_radius, ransac_iterations,
                           ransac_distance, edge_similarity, normal_tolerance_deg, ransac_candidates,
                           mutual_filter, max_points, icp_iterations, icp_starts, icp_distance,

@@ -58,8 +58,10 @@ int tell_lookalikes(const Cloud& candidate, const Cloud& best_view, const Alignm
 
 bool explains_candidate(const ModelView& view, const Alignment& a,
                         const RecognitionParams& params) {
-  // A partial view may rightly explain only a part of a candidate seen from elsewhere.
+  // A partial view may rightly explain only a part of a candidate seen from elsewhere, and its
+  // lowest point need not be the object's: it is held to neither.
   const bool full_model = !view.viewpoint.allFinite();
+  if (a.stance == Stance::kSinks || (full_model && a.stance == Stance::kFloats)) return false;
   return !full_model || a.fitness >= params.explain_fitness;
 }
 
@@ -93,18 +95,26 @@ struct BatchAligner {
   const Cloud& sample;  // subsample(candidate, max_points), made once
   const Database& db;
   const RecognitionParams& params;
-  const DepthImage* scene;
+  const SceneEvidence& scene;
   int threads;
 
-  // What the rest of the frame says of a pose: free space, the image border, hidden points.
+  // What the rest of the frame says of a pose: what it stands on; free space, the image border,
+  // hidden points.
   void judge_in_scene(Alignment& a, const Cloud& view) const {
-    a.free_space = free_space_violation(*scene, view, a.pose, params.free_space_tolerance);
+    if (scene.support && scene.surfaces && params.support_gap > 0) {
+      const StanceCheck s =
+          stance(*scene.support, *scene.surfaces, candidate, view, a.pose, params.support_gap);
+      a.stance = s.stance;
+      a.bottom = s.bottom;
+    }
+    if (!scene.depths || !(params.free_space_tolerance > 0)) return;
+    const DepthImage& depths = *scene.depths;
+    a.free_space = free_space_violation(depths, view, a.pose, params.free_space_tolerance);
     a.border_unexplained =
-        border_unexplained(*scene, candidate, view, a.pose, params.registration.fitness_distance);
-    if (!params.hidden_coverage) return;
-    const CoverageCounts c =
-        coverage_counts(candidate, view, a.pose, params.registration.score_distance, *scene,
-                        params.free_space_tolerance);
+        border_unexplained(depths, candidate, view, a.pose, params.registration.fitness_distance);
+    if (!(params.hidden_depth > 0)) return;
+    const CoverageCounts c = coverage_counts(
+        candidate, view, a.pose, params.registration.score_distance, depths, params.hidden_depth);
     const double visible = c.inside + c.outside, all = visible + c.hidden;
     const double counted = c.inside + params.registration.coverage_outside_weight * c.outside;
     a.coverage = visible > 0 ? c.explained / visible : 0;
@@ -132,7 +142,7 @@ struct BatchAligner {
       try {
         r.alignments[v] = align(candidate, sample, *view, params.registration,
                                 mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
-        if (scene && params.free_space_tolerance > 0) judge_in_scene(r.alignments[v], *view);
+        judge_in_scene(r.alignments[v], *view);
       } catch (...) {
         failure.capture();
         continue;
@@ -144,14 +154,18 @@ struct BatchAligner {
 };
 
 // Whether the views aligned so far (the shortlist's first `end`, the last batch from `begin`)
-// stop the alignments: one of the batch ranks early_exit, or none ranks early_reject.
-bool stop_aligning(const Recognition& r, const std::vector<int>& views, int begin, int end,
-                   const RecognitionParams& params) {
+// stop the alignments: one of the batch that may be the answer (explains_candidate()) ranks
+// early_exit, or none ranks early_reject.
+bool stop_aligning(const Recognition& r, const Database& db, const std::vector<int>& views,
+                   int begin, int end, const RecognitionParams& params) {
   const int m = static_cast<int>(views.size());
   if (params.early_exit > 0) {
     bool good = false;
-    for (int k = begin; k < end; ++k)
-      good |= rank_of(r.alignments[views[k]], params.score) >= params.early_exit;
+    for (int k = begin; k < end; ++k) {
+      const Alignment& a = r.alignments[views[k]];
+      good |= rank_of(a, params.score) >= params.early_exit &&
+              explains_candidate(db.views[views[k]], a, params);
+    }
     if (good) return true;
   }
   if (params.early_reject > 0 && end < m) {
@@ -220,7 +234,7 @@ RecognitionParams at_range(const RecognitionParams& params, const Cloud& candida
 
 Recognition recognize(const Cloud& candidate, const Database& db,
                       const RecognitionParams& given_params,
-                      const std::vector<std::string>& objects, const DepthImage* scene) {
+                      const std::vector<std::string>& objects, const SceneEvidence& scene) {
   // The sensor's error at the candidate's range sets the score's distance.
   const RecognitionParams params = at_range(given_params, candidate);
   Recognition r;
@@ -239,7 +253,7 @@ Recognition recognize(const Cloud& candidate, const Database& db,
     const int end = std::min(m, begin + kBatch);
     align_batch(views, begin, end, r, done, unreadable);
     r.views_aligned = end;
-    if (stop_aligning(r, views, begin, end, params)) break;
+    if (stop_aligning(r, db, views, begin, end, params)) break;
   }
   r.align_ms = align_watch.ms();
   for (const std::string& e : unreadable)

@@ -109,7 +109,8 @@ struct PieceRecogniser {
   const Database& db;
   const RecognitionParams& params;
   const std::function<void(const SceneObject&)>& progress;
-  const DepthImage* scene;  // the frame's depths for the free-space check, or null
+  const DepthImage* depths;     // the frame's depths for the free-space check, or null
+  const SupportScene* support;  // the surfaces the objects stand on, or null
 
   bool operator()(SceneObject o, Piece& out, const std::vector<std::string>& objects = {},
                   Cloud* described = nullptr) const {
@@ -125,7 +126,10 @@ struct PieceRecogniser {
     const double describe_ms = describe_watch.ms();
     RecognitionParams p = params;
     if (!objects.empty()) p.shortlist = params.trial_shortlist;
-    o.recognition = recognize(out.cloud, db, p, objects, scene);
+    std::vector<float> surfaces;
+    if (support) surfaces = surfaces_around(*support, o.points);
+    o.recognition =
+        recognize(out.cloud, db, p, objects, {depths, support, support ? &surfaces : nullptr});
     o.recognition.describe_ms = describe_ms;
     out.object = std::move(o);
     out.box.setEmpty();
@@ -284,7 +288,15 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
                                          const Database& db, const RecognitionParams& params,
                                          const std::function<void(const SceneObject&)>& progress) {
   const DepthImage depths = params.free_space_tolerance > 0 ? depth_image(frame) : DepthImage{};
-  const PieceRecogniser recognise{frame, db, params, progress, depths.empty() ? nullptr : &depths};
+  const SupportScene support =
+      params.support_gap > 0 ? support_scene(frame, selection, support_plane(frame, selection))
+                             : SupportScene{};
+  const PieceRecogniser recognise{frame,
+                                  db,
+                                  params,
+                                  progress,
+                                  depths.empty() ? nullptr : &depths,
+                                  support.empty() ? nullptr : &support};
   std::vector<Piece> pieces = recognise_candidates(selection, recognise);
   if (params.split_fitness > 0) pieces = split_pieces(std::move(pieces), recognise);
   if (params.merge_distance > 0) pieces = merge_pieces(std::move(pieces), recognise);

@@ -58,6 +58,12 @@ struct RecognitionParams {
   // rightly explain only what they saw of a candidate seen from elsewhere. 0 = every view.
   // Chosen on the real video0001 (named 8 -> 14 of 20 at 0.8-0.9); no change on frames/.
   double explain_fitness = 0.85;
+  // Physical support [extension, docs/method.md "Real sensors"] (metres; 0 = off): in a scene
+  // with a support plane, a pose whose lowest point lies more than this under the plane (through
+  // the table), or a full model's more than this over it with no other object's top surface
+  // under it (in the air), is neither the answer nor the runner-up (stance(), support.hpp).
+  // Partial views are not held to floating: their lowest point need not be the object's.
+  double support_gap = 0.02;
   // A lone match [extension, docs/method.md "Recognition that generalises"]: a best score under
   // min_score but at least lone_score still names the object when the runner-up scores at most
   // lone_ratio of it (Lowe's ratio test), and only when colour was compared (both clouds
@@ -119,13 +125,12 @@ struct RecognitionParams {
   // posed view's sensor-facing points more than free_space_tolerance + 0.005 z^2 metres in front
   // of the measured depth (free_space_violation()). Organized frames only; 0 = off.
   double free_space_tolerance = 0.01;
-  // Scenes [extension, docs/method.md "Real sensors"]: the view's visible points outside the
-  // candidate's silhouette that the frame hides (an occluder in front, or no return) are left
-  // out of the coverage instead of counting as missing (coverage_counts() with a scene), so that
-  // an object half behind another is judged on its visible half. Organized frames only; needs
-  // free_space_tolerance > 0 (its tolerance). Off: on the real folds it named 1 more object and
-  // 3 pieces of clutter (docs/method.md "Real sensors").
-  bool hidden_coverage = false;
+  // Occlusion [extension, docs/method.md "Real sensors"] (metres; 0 = off): the view's visible
+  // points outside the candidate's silhouette behind a surface the sensor measured more than
+  // this + 0.005 z^2 nearer (an occluder in front) are left out of the coverage instead of
+  // counting as missing (coverage_counts() with a scene), so that an object half behind another
+  // is judged on its visible half. Organized frames only; needs free_space_tolerance > 0.
+  double hidden_depth = 0.03;
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores; the answer does not depend on it
 };

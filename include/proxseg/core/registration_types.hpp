@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,7 +51,7 @@ struct RegistrationParams {
   // use all of them). Matching costs candidate x view points per view.
   int max_points = 300;
   int icp_iterations = 30;         // upper bound; stops earlier when converged (paper: 100-200)
-  int icp_starts = 2;              // ICP runs from the best this many RANSAC hypotheses
+  int icp_starts = 3;              // ICP runs from the best this many RANSAC hypotheses
   double icp_distance = 0.015;     // ICP correspondences farther than this are ignored
   bool point_to_plane = false;     // the paper's ICP is point-to-point
   double fitness_distance = 0.01;  // delta_th of eq. 4 (a distance, not a squared distance)
@@ -124,6 +125,13 @@ struct Cloud {
 };
 
 // The result of aligning one model view to one candidate.
+// How a posed model stands on the scene's support plane (stance(), support.hpp).
+enum class Stance {
+  kStands,  // on the plane or on another object, or not judged
+  kFloats,  // over the plane with nothing under it
+  kSinks,   // through the plane
+};
+
 struct Alignment {
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // candidate frame <- model frame
   double fitness = 0;        // eq. 5: share of candidate points within delta_th of the aligned view
@@ -148,6 +156,10 @@ struct Alignment {
   // (something measured nearer, or no return there): left out of coverage and occluded_coverage
   // (coverage_counts() with a scene); 0 when recognition has no depth image.
   double hidden = 0;
+  // Whether the posed model stands on the support plane or on another object, and the height of
+  // its lowest point over the plane (stance(), support.hpp); kStands and NaN without a support.
+  Stance stance = Stance::kStands;
+  double bottom = std::numeric_limits<double>::quiet_NaN();
   int correspondences = 0, ransac_inliers = 0, icp_iterations = 0;
   double ransac_ms = 0, icp_ms = 0, score_ms = 0;
 };

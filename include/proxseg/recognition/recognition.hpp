@@ -7,6 +7,7 @@
 #include <proxseg/core/selection.hpp>
 #include <proxseg/recognition/lookalike.hpp>
 #include <proxseg/recognition/registration.hpp>
+#include <proxseg/recognition/support.hpp>
 #include <proxseg/recognition/visibility.hpp>
 
 #include <functional>
@@ -21,8 +22,9 @@ namespace proxseg {
 // runner_up: the best score of another object, 0 when there is none.
 bool names_best(double score, double runner_up, const RecognitionParams& params, bool lone = false);
 // Whether a view aligned to a candidate may be its answer or the runner-up: a full model (a
-// view with no viewpoint, seen from everywhere) must explain explain_fitness of the candidate;
-// a partial view always may (the candidate may show sides the view does not).
+// view with no viewpoint, seen from everywhere) must explain explain_fitness of the candidate
+// and must not float (Alignment::stance); a partial view may explain a part (the candidate may
+// show sides the view does not); no pose may sink through the support plane.
 bool explains_candidate(const ModelView& view, const Alignment& a, const RecognitionParams& params);
 
 // The look-alike vote [extension, docs/method.md "Recognition that generalises"] between the
@@ -59,11 +61,12 @@ std::vector<int> shortlist_views(const Cloud& candidate, const Database& db, int
 // (RegistrationParams::score_distance_slope).
 RecognitionParams at_range(const RecognitionParams& params, const Cloud& candidate);
 // Algorithm 3 for one described candidate, over the views of `objects` (all when empty).
-// With `scene` (the frame's depth image; recognize_scene() passes it when free_space_tolerance >
-// 0), every alignment is also checked against the sensor's free space.
+// With the scene's evidence (recognize_scene() passes it), every alignment is also checked
+// against the sensor's free space (its depths, when free_space_tolerance > 0) and for its
+// stance on the support plane (when support_gap > 0).
 Recognition recognize(const Cloud& candidate, const Database& db, const RecognitionParams& params,
                       const std::vector<std::string>& objects = {},
-                      const DepthImage* scene = nullptr);
+                      const SceneEvidence& scene = {});
 
 // Algorithm 3 for one object given as a cloud of its own (every valid point of `cloud`, with its
 // colours when it has them): describes it like the database views (Recognition::describe_ms)
