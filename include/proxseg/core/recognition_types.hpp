@@ -104,8 +104,9 @@ struct RecognitionParams {
   // > 0: stop after a batch of views in which no view so far reached this rank (rank_of()):
   // nothing of the database fits (an unknown object, a piece of one), and the views further down
   // the shortlist are less like the candidate. Faster; may change the answer (a thin object
-  // whose own views come late). 0 = align the whole shortlist.
-  double early_reject = 0.2;
+  // whose own views come late). 0 = align the whole shortlist. 0.3 (was 0.2): the same answers on
+  // the real folds, 20 % faster there; on the object folds the same or better (0.4 lost objects).
+  double early_reject = 0.3;
   // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
   // that names a candidate also tells which of its points belong to it.
   // Split: a named candidate whose best fitness is under split_fitness is cut into the points
