@@ -5,12 +5,14 @@
 #include <proxseg/recognition/registration.hpp>
 #include <proxseg/recognition/visibility.hpp>
 
+#include "coverage_bound.hpp"
 #include "search_index.hpp"
 #include "transformation_estimation.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace proxseg {
@@ -68,9 +70,15 @@ bool scene_hides(const DepthImage& scene, const Eigen::Vector3d& q, double toler
   return std::isfinite(measured) && measured < q.z() - tolerance - 0.005 * q.z() * q.z();
 }
 
+// With `hopeless`, the count of explained points stops as soon as hopeless() holds for the
+// coverage they would give if every point still to check were explained (an upper bound of it:
+// counted is known before the nearest-point queries, the dear part); explained then holds
+// that bound's count.
 CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
                               const Eigen::Matrix4d& pose, double delta, bool silhouette,
-                              const DepthImage* scene = nullptr, double tolerance = 0) {
+                              const DepthImage* scene = nullptr, double tolerance = 0,
+                              double outside_weight = 1,
+                              const std::function<bool(double)>* hopeless = nullptr) {
   CoverageCounts out;
   const Eigen::Vector3d axis = apply(pose, view.centroid) - candidate.viewpoint;
   const double range = axis.norm();
@@ -125,6 +133,7 @@ CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
     if (cx < 0 || cy < 0 || cx >= dims.x() || cy >= dims.y()) continue;
     seen[static_cast<std::size_t>(cy) * dims.x() + cx] = 1;
   }
+  std::vector<int> counted;  // the visible points that count, in view order
   for (std::size_t j = 0; j < view.size(); ++j) {
     if (depth[j] < 0 || depth[j] > zbuf[key[j]] + 2 * spacing) continue;
     if (!seen[key[j]] && scene && scene_hides(*scene, q[j] + candidate.viewpoint, tolerance)) {
@@ -132,9 +141,19 @@ CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
       continue;
     }
     ++(seen[key[j]] ? out.inside : out.outside);
+    counted.push_back(static_cast<int>(j));
+  }
+  const double weight = out.inside + outside_weight * out.outside;
+  constexpr std::size_t kCheckEvery = 16;
+  for (std::size_t k = 0; k < counted.size(); ++k) {
+    if (hopeless && k % kCheckEvery == 0 && weight > 0 &&
+        (*hopeless)(std::min(1.0, (out.explained + double(counted.size() - k)) / weight))) {
+      out.explained += static_cast<int>(counted.size() - k);
+      break;
+    }
     double d2 = 0;
-    out.explained += nearest(candidate.index->points, q[j] + candidate.viewpoint, delta, d2) >= 0 &&
-                     d2 <= delta * delta;
+    const Eigen::Vector3d p = q[counted[k]] + candidate.viewpoint;
+    out.explained += nearest(candidate.index->points, p, delta, d2) >= 0 && d2 <= delta * delta;
   }
   return out;
 }
@@ -154,7 +173,14 @@ CoverageCounts coverage_counts(const Cloud& candidate, const Cloud& view,
 
 double coverage(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d& pose,
                 double delta, double outside_weight) {
-  const CoverageCounts c = count_coverage(candidate, view, pose, delta, outside_weight < 1);
+  return detail::coverage_unless(candidate, view, pose, delta, outside_weight, {});
+}
+
+double detail::coverage_unless(const Cloud& candidate, const Cloud& view,
+                               const Eigen::Matrix4d& pose, double delta, double outside_weight,
+                               const std::function<bool(double)>& hopeless) {
+  const CoverageCounts c = count_coverage(candidate, view, pose, delta, outside_weight < 1, nullptr,
+                                          0, outside_weight, hopeless ? &hopeless : nullptr);
   const double counted = c.inside + outside_weight * c.outside;
   return counted > 0 ? std::min(1.0, c.explained / counted) : 0;
 }

@@ -4,6 +4,7 @@
 #include <proxseg/recognition/registration.hpp>
 
 #include "colour_scores.hpp"
+#include "coverage_bound.hpp"
 #include "ransac.hpp"
 #include "search_index.hpp"
 #include "transformation_estimation.hpp"
@@ -12,34 +13,50 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <numeric>
 
 namespace proxseg::detail {
 
 // Feature correspondences (candidate point, view point): each candidate point's nearest view
-// feature, optionally kept only when the view point's nearest candidate feature is it.
+// feature, optionally kept only when the view point's nearest candidate feature is it. The
+// distances are found a block of view points at a time: the whole matrix (a few hundred
+// candidate points by thousands of view points) would be allocated, zeroed and paged in anew for
+// every view, and would not stay in the cache.
 std::vector<std::pair<int, int>> correspondences(const Cloud& cand, const Cloud& view, int block,
                                                  bool mutual) {
+  constexpr Eigen::Index kColumns = 256;  // view points per block: 300 x 256 floats, in L2
   const std::size_t k = block < 0 ? 0 : 1 + block;
   const Eigen::MatrixXf& fc = cand.index->features[k];
   const Eigen::MatrixXf& fv = view.index->features[k];
-  // d2(i, j) = |c_i|^2 + |v_j|^2 - 2 c_i.v_j; |c_i|^2 does not change the argmin over j.
-  Eigen::MatrixXf d = fc.transpose() * fv;
-  d *= -2.0f;
-  d.rowwise() += view.index->norms2[k];
-  std::vector<std::pair<int, int>> out;
-  std::vector<int> back;
-  if (mutual) {
-    Eigen::MatrixXf dt = d;
-    dt.colwise() += cand.index->norms2[k].transpose();
-    back.resize(dt.cols());
-    for (Eigen::Index j = 0; j < dt.cols(); ++j) dt.col(j).minCoeff(&back[j]);
+  const Eigen::Index rows = fc.cols(), cols = fv.cols();
+  if (rows == 0 || cols == 0) return {};
+  std::vector<float> nearest_d(rows, std::numeric_limits<float>::infinity());
+  std::vector<int> nearest(rows, 0), back(mutual ? cols : 0);
+  Eigen::MatrixXf d(rows, std::min(kColumns, cols));
+  for (Eigen::Index j0 = 0; j0 < cols; j0 += kColumns) {
+    const Eigen::Index w = std::min(kColumns, cols - j0);
+    auto dj = d.leftCols(w);
+    // d2(i, j) = |c_i|^2 + |v_j|^2 - 2 c_i.v_j; |c_i|^2 does not change the argmin over j.
+    dj.noalias() = fc.transpose() * fv.middleCols(j0, w);
+    dj *= -2.0f;
+    dj.rowwise() += view.index->norms2[k].segment(j0, w);
+    for (Eigen::Index i = 0; i < rows; ++i) {  // the first nearest, as over the whole row
+      Eigen::Index j = 0;
+      const float m = dj.row(i).minCoeff(&j);
+      if (m < nearest_d[i]) nearest_d[i] = m, nearest[i] = static_cast<int>(j0 + j);
+    }
+    for (Eigen::Index j = 0; j < (mutual ? w : 0); ++j) {
+      Eigen::Index i = 0;
+      (dj.col(j) + cand.index->norms2[k].transpose()).minCoeff(&i);
+      back[j0 + j] = static_cast<int>(i);
+    }
   }
-  for (Eigen::Index i = 0; i < d.rows(); ++i) {
-    Eigen::Index j = 0;
-    d.row(i).minCoeff(&j);
-    if (mutual && back[j] != i) continue;
-    out.emplace_back(static_cast<int>(i), static_cast<int>(j));
+  std::vector<std::pair<int, int>> out;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    if (mutual && back[nearest[i]] != i) continue;
+    out.emplace_back(static_cast<int>(i), nearest[i]);
   }
   return out;
 }
@@ -84,8 +101,12 @@ void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
     double agree = 1;
     if (coloured)
       explained_colour(cand, view, top[k].pose, p.ransac_distance, p.brightness_sigma, agree);
+    // Once `kept` are judged, one that cannot beat the last of them need not be counted out.
+    const auto overlap = [&](double cov) { return symmetric_overlap(fit[k], cov) * agree; };
+    std::function<bool(double)> hopeless;
+    if (best.size() == kept) hopeless = [&](double cov) { return overlap(cov) < best.back(); };
     top[k].overlap =
-        symmetric_overlap(fit[k], coverage(cand, view, top[k].pose, p.ransac_distance)) * agree;
+        overlap(coverage_unless(cand, view, top[k].pose, p.ransac_distance, 1, hopeless));
     best.insert(std::upper_bound(best.begin(), best.end(), top[k].overlap, std::greater<>()),
                 top[k].overlap);
     if (best.size() > kept) best.pop_back();
@@ -96,22 +117,51 @@ void judge(std::vector<Hypothesis>& top, const Cloud& cand, const Cloud& view,
 
 using Correspondences = std::vector<std::pair<int, int>>;
 
-// The correspondences that pose t (candidate <- model) brings within sqrt(r2) of each other; with
-// a and b, their view and candidate points go there.
-int count_inliers(const Cloud& cand, const Cloud& view, const Correspondences& c,
-                  const Eigen::Matrix4d& t, double r2, std::vector<Eigen::Vector3d>* a,
-                  std::vector<Eigen::Vector3d>* b) {
+// The correspondences' points side by side, coordinate by coordinate: RANSAC counts the inliers
+// of every hypothesis over all of them, and this layout lets that loop vectorise.
+struct CorrespondencePoints {
+  std::vector<double> vx, vy, vz;  // view points
+  std::vector<double> cx, cy, cz;  // candidate points
+
+  CorrespondencePoints(const Cloud& cand, const Cloud& view,
+                       const std::vector<std::pair<int, int>>& c) {
+    for (auto* v : {&vx, &vy, &vz, &cx, &cy, &cz}) v->reserve(c.size());
+    for (const auto& [i, j] : c) {
+      vx.push_back(view.points[j].x()), vy.push_back(view.points[j].y());
+      vz.push_back(view.points[j].z());
+      cx.push_back(cand.points[i].x()), cy.push_back(cand.points[i].y());
+      cz.push_back(cand.points[i].z());
+    }
+  }
+};
+
+// The number of correspondences that pose t (candidate <- model) brings within sqrt(r2) of each
+// other. The arithmetic is apply()'s and squaredNorm()'s, term by term in their order.
+int count_inliers(const CorrespondencePoints& c, const Eigen::Matrix4d& t, double r2) {
+  const double r00 = t(0, 0), r01 = t(0, 1), r02 = t(0, 2), tx = t(0, 3);
+  const double r10 = t(1, 0), r11 = t(1, 1), r12 = t(1, 2), ty = t(1, 3);
+  const double r20 = t(2, 0), r21 = t(2, 1), r22 = t(2, 2), tz = t(2, 3);
+  const std::size_t m = c.vx.size();
   int n = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double dx = r00 * c.vx[k] + r01 * c.vy[k] + r02 * c.vz[k] + tx - c.cx[k];
+    const double dy = r10 * c.vx[k] + r11 * c.vy[k] + r12 * c.vz[k] + ty - c.cy[k];
+    const double dz = r20 * c.vx[k] + r21 * c.vy[k] + r22 * c.vz[k] + tz - c.cz[k];
+    n += dx * dx + dy * dy + dz * dz < r2;
+  }
+  return n;
+}
+
+// The inliers of pose t: their view points to a, their candidate points to b.
+void collect_inliers(const Cloud& cand, const Cloud& view, const Correspondences& c,
+                     const Eigen::Matrix4d& t, double r2, std::vector<Eigen::Vector3d>& a,
+                     std::vector<Eigen::Vector3d>& b) {
   for (const auto& [i, j] : c) {
     const Eigen::Vector3d q = apply(t, view.points[j]);
     if ((q - cand.points[i]).squaredNorm() >= r2) continue;
-    ++n;
-    if (a) {
-      a->push_back(view.points[j]);
-      b->push_back(cand.points[i]);
-    }
+    a.push_back(view.points[j]);
+    b.push_back(cand.points[i]);
   }
-  return n;
 }
 
 // Keeps h among the best ransac_candidates hypotheses (top: best first, pairwise distinct): it
@@ -162,7 +212,15 @@ bool alike_in_both(const Cloud& cand, const Cloud& view, const std::pair<int, in
   const auto& [i1, j1] = s1;
   const Eigen::Vector3d dc = cand.points[i1] - cand.points[i0];
   const Eigen::Vector3d dv = view.points[j1] - view.points[j0];
-  const double lc = dc.norm(), lv = dv.norm();
+  const double lc2 = dc.squaredNorm(), lv2 = dv.squaredNorm();
+  // Most samples fail on their edge lengths: rejected first on the squared lengths, without a
+  // square root, by a margin (1e-9) far above rounding, so that the test below decides the rest.
+  constexpr double kMargin = 1 - 1e-9;
+  const double shortest2 = min_edge * min_edge * kMargin;
+  if (lc2 < shortest2 || lv2 < shortest2 ||
+      std::min(lc2, lv2) < p.edge_similarity * p.edge_similarity * kMargin * std::max(lc2, lv2))
+    return false;
+  const double lc = std::sqrt(lc2), lv = std::sqrt(lv2);
   if (!(lc > min_edge && lv > min_edge && std::min(lc, lv) >= p.edge_similarity * std::max(lc, lv)))
     return false;
   const Eigen::Vector3d &nc0 = cand.normals[i0], &nc1 = cand.normals[i1];
@@ -206,6 +264,7 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
   const double r2 = p.ransac_distance * p.ransac_distance;
   const double min_edge = 2 * std::max(cand.spacing, view.spacing);
   const double cos_tol = std::cos(detail::radians(p.normal_tolerance_deg));
+  const CorrespondencePoints points(cand, view, c);
   int valid = 0;
   const long attempts = 50L * p.ransac_iterations;
   for (long a = 0; a < attempts && valid < p.ransac_iterations; ++a) {
@@ -214,14 +273,14 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
     if (!alike_in_both(cand, view, c[s0], c[s1], p, min_edge, cos_tol)) continue;
     ++valid;
     const Eigen::Matrix4d t = pair_pose(cand, view, c[s0], c[s1]);
-    const int n = count_inliers(cand, view, c, t, r2, nullptr, nullptr);
+    const int n = count_inliers(points, t, r2);
     if (n >= 3) keep(top, {t, n, 0}, p);
   }
   for (Hypothesis& h : top) {
     std::vector<Eigen::Vector3d> a, b;
-    count_inliers(cand, view, c, h.pose, r2, &a, &b);
+    collect_inliers(cand, view, c, h.pose, r2, a, b);
     const Eigen::Matrix4d refit = kabsch(a, b);
-    if (count_inliers(cand, view, c, refit, r2, nullptr, nullptr) >= h.inliers) h.pose = refit;
+    if (count_inliers(points, refit, r2) >= h.inliers) h.pose = refit;
   }
   judge(top, cand, view, p);
   return top;

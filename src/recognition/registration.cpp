@@ -4,12 +4,14 @@
 #include <proxseg/recognition/registration.hpp>
 
 #include "colour_scores.hpp"
+#include "coverage_bound.hpp"
 #include "icp.hpp"
 #include "ransac.hpp"
 #include "search_index.hpp"
 #include "util/stopwatch.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <random>
 
 namespace proxseg {
@@ -71,11 +73,14 @@ Alignment align(const Cloud& candidate_all, const Cloud& candidate, const Cloud&
                                  ? explained_colour(candidate, view, pose, params.score_distance,
                                                     params.brightness_sigma, agree)
                                  : fitness(candidate, view, pose, params.score_distance);
-    const double score =
-        starts == 1
-            ? 0
-            : symmetric_overlap(explained, coverage(candidate, view, pose, params.score_distance)) *
-                  agree;
+    // A start whose score cannot exceed the best so far need not be counted out.
+    const auto overlap = [&](double cov) { return symmetric_overlap(explained, cov) * agree; };
+    std::function<bool(double)> hopeless;
+    if (k > 0) hopeless = [&](double cov) { return !(overlap(cov) > best); };
+    const double score = starts == 1
+                             ? 0
+                             : overlap(detail::coverage_unless(candidate, view, pose,
+                                                               params.score_distance, 1, hopeless));
     if (score > best) {
       best = score;
       a.pose = pose;

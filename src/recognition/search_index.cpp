@@ -42,9 +42,11 @@ int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, double r, doubl
   const Eigen::Vector3d hi = (q.array() + r - g.origin.array()) / g.cell;
   Eigen::Vector3i a, b;
   for (int k = 0; k < 3; ++k) {
-    if (hi[k] < 0 || lo[k] >= g.dims[k]) return -1;
-    a[k] = std::max(0, static_cast<int>(std::floor(lo[k])));
-    b[k] = std::min(g.dims[k] - 1, static_cast<int>(std::floor(hi[k])));
+    if (!(hi[k] >= 0 && lo[k] < g.dims[k])) return -1;  // off the grid (or not a number)
+    // floor() of the clamped, non-negative bounds as a truncation: the same cells without a
+    // call into libm per bound (the x86-64 baseline has no rounding instruction).
+    a[k] = static_cast<int>(std::max(lo[k], 0.0));
+    b[k] = static_cast<int>(std::min(hi[k], static_cast<double>(g.dims[k] - 1)));
   }
   double best = r * r;
   int found = -1;
