@@ -122,32 +122,44 @@ struct BatchAligner {
     a.hidden = all > 0 ? c.hidden / all : 0;
   }
 
+  // Aligns the shortlist's k-th view.
+  void align_one(const std::vector<int>& views, int k, Recognition& r, std::vector<char>& done,
+                 std::vector<std::string>& unreadable, detail::FirstError& failure) const {
+    if (failure.failed()) return;
+    const int v = views[k];
+    const Cloud* view = nullptr;
+    try {  // a stored view is read here, the first time it is shortlisted
+      view = &db.views[v].cloud();
+    } catch (const InputError& e) {
+      unreadable[k] = e.what();
+      return;
+    } catch (...) {
+      failure.capture();
+      return;
+    }
+    try {
+      r.alignments[v] = align(candidate, sample, *view, params.registration,
+                              mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
+      judge_in_scene(r.alignments[v], *view);
+    } catch (...) {
+      failure.capture();
+      return;
+    }
+    done[v] = 1;
+  }
+
+  // The views of one batch in parallel: on threads of their own, or, when the candidate is itself
+  // a task of a parallel region (recognize_scene()'s candidates), as tasks that a thread done
+  // with the other candidates takes over.
   void operator()(const std::vector<int>& views, int begin, int end, Recognition& r,
                   std::vector<char>& done, std::vector<std::string>& unreadable) const {
     detail::FirstError failure;  // out of memory in one alignment: the candidate fails
+    if (omp_in_parallel()) {
+#pragma omp taskloop grainsize(1) shared(views, r, done, unreadable, failure)
+      for (int k = begin; k < end; ++k) align_one(views, k, r, done, unreadable, failure);
+    } else {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int k = begin; k < end; ++k) {
-      if (failure.failed()) continue;
-      const int v = views[k];
-      const Cloud* view = nullptr;
-      try {  // a stored view is read here, the first time it is shortlisted
-        view = &db.views[v].cloud();
-      } catch (const InputError& e) {
-        unreadable[k] = e.what();
-        continue;
-      } catch (...) {
-        failure.capture();
-        continue;
-      }
-      try {
-        r.alignments[v] = align(candidate, sample, *view, params.registration,
-                                mix(params.seed ^ mix(static_cast<std::uint64_t>(v))));
-        judge_in_scene(r.alignments[v], *view);
-      } catch (...) {
-        failure.capture();
-        continue;
-      }
-      done[v] = 1;
+      for (int k = begin; k < end; ++k) align_one(views, k, r, done, unreadable, failure);
     }
     failure.rethrow();
   }

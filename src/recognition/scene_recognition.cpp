@@ -143,9 +143,9 @@ struct PieceRecogniser {
 };
 
 // The selection's candidates, each recognised on its own, in the selection's order. They are
-// independent: one per thread (each one's views then run on that thread), which keeps both
-// cores busy better than the views of one candidate in batches; largest first, so that the last
-// one to finish is a small one and no core waits long.
+// independent: one task each, largest first, which keeps the cores busier than the views of one
+// candidate in batches; the views of a candidate are tasks too (BatchAligner), so that a thread
+// done with the candidates takes over views of the last ones instead of waiting.
 std::vector<Piece> recognise_candidates(const Selection& selection,
                                         const PieceRecogniser& recognise) {
   std::vector<const Candidate*> candidates;
@@ -161,16 +161,19 @@ std::vector<Piece> recognise_candidates(const Selection& selection,
   const int threads =
       recognise.params.threads > 0 ? recognise.params.threads : omp_get_max_threads();
   detail::FirstError failure;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int i = 0; i < static_cast<int>(by_size.size()); ++i) {
-    if (failure.failed()) continue;
-    const int k = by_size[i];
-    const Candidate& c = *candidates[k];
-    try {
-      made[k] = recognise(scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate),
-                          first[k]);
-    } catch (...) {
-      failure.capture();
+#pragma omp parallel num_threads(threads)
+#pragma omp single
+  for (const int k : by_size) {
+#pragma omp task firstprivate(k)
+    {
+      const Candidate& c = *candidates[k];
+      try {
+        if (!failure.failed())
+          made[k] = recognise(scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate),
+                              first[k]);
+      } catch (...) {
+        failure.capture();
+      }
     }
   }
   failure.rethrow();
