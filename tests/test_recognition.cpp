@@ -13,6 +13,8 @@
 #include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Feature.h>
 #include <sys/stat.h>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -117,6 +119,41 @@ TEST(Evaluation, OcclusionGeneratorRemovesABallAroundAPointOfTheView) {
     EXPECT_GT(bins[b], 0) << "no occlusion of " << b * 10 << "-" << b * 10 + 10 << " %";
   EXPECT_THROW(occlude({}, 0.1, 1), InputError);
   EXPECT_THROW(occlude(view, -1, 1), InputError);
+}
+
+// describe()'s FPFH (one neighbour search shared by the radii) must be Open3D's to the last bit:
+// the stored views of existing databases were described by Open3D's ComputeFPFHFeature.
+TEST(Descriptors, FpfhIsOpen3dsToTheLastBit) {
+  const DescriptorParams params;
+  std::vector<Cloud> clouds;
+  for (const char* model : {"003_cracker_box", "025_mug", "040_large_marker"})
+    clouds.push_back(describe(read_xyz(kData + "/ycbv/models/" + model + "/points.xyz"),
+                              Eigen::Vector3d::Constant(std::nan("")), params));
+  const Mesh duck = read_mesh(kData + "/lmo/models/obj_000009.ply", 0.001);
+  ViewSphereParams views;
+  views.views = 2;
+  for (const auto& v : render_views(duck, views)) {
+    std::vector<Eigen::Vector3d> xyz;
+    for (const auto& p : v.points.xyz) xyz.push_back(p.cast<double>());
+    clouds.push_back(describe(xyz, v.eye, params));
+  }
+  long compared = 0;
+  for (const Cloud& c : clouds) {
+    open3d::geometry::PointCloud pc;
+    pc.points_ = c.points;
+    pc.normals_ = c.normals;
+    for (std::size_t r = 0; r < params.fpfh_radii.size(); ++r) {
+      const auto f = open3d::pipelines::registration::ComputeFPFHFeature(
+          pc, open3d::geometry::KDTreeSearchParamHybrid(params.fpfh_radii[r], 100));
+      ASSERT_EQ(f->data_.cols(), c.features.cols());
+      for (Eigen::Index j = 0; j < f->data_.cols(); ++j)
+        for (int b = 0; b < 33; ++b, ++compared)
+          ASSERT_EQ(static_cast<double>(static_cast<float>(f->data_(b, j))),
+                    c.features(33 * static_cast<Eigen::Index>(r) + b, j))
+              << "radius " << params.fpfh_radii[r] << ", point " << j << ", bin " << b;
+    }
+  }
+  EXPECT_GT(compared, 100000);
 }
 
 TEST(Registration, RecoversAKnownPoseOfARenderedView) {

@@ -4,18 +4,19 @@
 #include <proxseg/core/frame.hpp>
 #include <proxseg/recognition/registration.hpp>
 
+#include "fpfh.hpp"
 #include "search_index.hpp"
 #include "signatures.hpp"
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
-#include <open3d/pipelines/registration/Feature.h>
 #include <algorithm>
 #include <cmath>
 
 namespace proxseg {
 
 using detail::build_index;
+using detail::fpfh_features;
 using detail::make_signature;
 
 namespace {
@@ -141,13 +142,9 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
     pc.normals_[i] = round_to_float(n);
   }
   c.normals = pc.normals_;
-  c.features.resize(kFpfhBins * params.fpfh_radii.size(), c.size());
-  for (std::size_t b = 0; b < params.fpfh_radii.size(); ++b) {
-    const auto f = open3d::pipelines::registration::ComputeFPFHFeature(
-        pc, open3d::geometry::KDTreeSearchParamHybrid(params.fpfh_radii[b], 100));
-    c.features.middleRows(b * kFpfhBins, kFpfhBins) =
-        f->data_.unaryExpr([](double x) { return static_cast<double>(static_cast<float>(x)); });
-  }
+  constexpr int kMaxNeighbours = 100;
+  c.features = fpfh_features(pc.points_, pc.normals_, params.fpfh_radii, kMaxNeighbours)
+                   .unaryExpr([](double x) { return static_cast<double>(static_cast<float>(x)); });
   c.index = build_index(c);
   c.spacing = median_spacing(c);
   c.signature = make_signature(c);
