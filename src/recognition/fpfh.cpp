@@ -24,7 +24,8 @@ struct Neighbours {
 
 Neighbours nearest_neighbours(const std::vector<Eigen::Vector3d>& points, int max_nn) {
   Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));  // must outlive the tree
-  for (std::size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
+  for (std::size_t i = 0; i < points.size(); ++i)
+    data.col(static_cast<Eigen::Index>(i)) = points[i];
   open3d::geometry::KDTreeFlann tree;
   tree.SetMatrixData(data);
   Neighbours n;

@@ -35,18 +35,21 @@ PointGrid make_grid(const std::vector<Eigen::Vector3d>& points) {
   return g;
 }
 
-// Nearest point of the grid to q among the cells of the box of half-width r (-1 if none in the
-// ball of radius r), squared distance in d2.
-int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) {
-  const Eigen::Vector3d lo = (q.array() - r - g.origin.array()) / g.cell;
-  const Eigen::Vector3d hi = (q.array() + r - g.origin.array()) / g.cell;
+// Nearest point of the grid to q among the cells of the box of half-width r around it (-1 if
+// none in the ball of radius r), squared distance in d2. The box is found from q's position in
+// cell units (cq) and r in them (rc), widened by a millionth of a cell: far more than their
+// rounding, so that every cell holding a point within r is searched (the distance decides), and
+// without a division per bound.
+int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq,
+                   double r, double rc, double& d2) {
+  constexpr double kSlack = 1e-6;
   Eigen::Vector3i a, b;
   for (int k = 0; k < 3; ++k) {
-    if (!(hi[k] >= 0 && lo[k] < g.dims[k])) return -1;  // off the grid (or not a number)
-    // floor() of the clamped, non-negative bounds as a truncation: the same cells without a
-    // call into libm per bound (the x86-64 baseline has no rounding instruction).
-    a[k] = static_cast<int>(std::max(lo[k], 0.0));
-    b[k] = static_cast<int>(std::min(hi[k], static_cast<double>(g.dims[k] - 1)));
+    const double lo = cq[k] - rc - kSlack, hi = cq[k] + rc + kSlack;
+    if (!(hi >= 0 && lo < g.dims[k])) return -1;  // off the grid (or not a number)
+    // floor() of the clamped, non-negative bounds as a truncation.
+    a[k] = static_cast<int>(std::max(lo, 0.0));
+    b[k] = static_cast<int>(std::min(hi, static_cast<double>(g.dims[k] - 1)));
   }
   double best = r * r;
   int found = -1;
@@ -72,12 +75,14 @@ namespace detail {
 
 int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) {
   if (g.order.empty()) return -1;
+  const double inverse = 1 / g.cell;
+  const Eigen::Vector3d cq = (q - g.origin) * inverse;
   const double first = 0.5 * g.cell;
   if (r > first) {
-    const int j = nearest_in_box(g, q, first, d2);
+    const int j = nearest_in_box(g, q, cq, first, 0.5, d2);
     if (j >= 0) return j;
   }
-  return nearest_in_box(g, q, r, d2);
+  return nearest_in_box(g, q, cq, r, r * inverse, d2);
 }
 
 std::shared_ptr<const SearchIndex> build_index(const Cloud& c) {
