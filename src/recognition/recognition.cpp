@@ -233,6 +233,22 @@ void choose_best(Recognition& r, const Database& db, const RecognitionParams& pa
   }
 }
 
+// The best score of another object than the answer's among the views that explain the
+// candidate whatever their stance: a model that fits it only through the table or in the air is
+// no answer, but it fits the candidate's shape as well, so the answer is no lone match.
+double rival_in_any_stance(const Recognition& r, const Database& db,
+                           const RecognitionParams& params, const std::vector<char>& done) {
+  double rival = 0;
+  for (int v = 0; v < static_cast<int>(db.views.size()); ++v) {
+    if (!done[v] || db.views[v].object == r.best.object) continue;
+    Alignment a = r.alignments[v];
+    a.stance = Stance::kStands;
+    if (explains_candidate(db.views[v], a, params))
+      rival = std::max(rival, score_of(a, params.score));
+  }
+  return rival;
+}
+
 }  // namespace
 
 RecognitionParams at_range(const RecognitionParams& params, const Cloud& candidate) {
@@ -284,7 +300,8 @@ Recognition recognize(const Cloud& candidate, const Database& db,
   }
   const double runner_up = r.runner_up.view >= 0 ? r.runner_up.score : 0.0;
   const bool lone = objects.empty() && r.runner_up.view >= 0 && r.best.view >= 0 &&
-                    r.alignments[r.best.view].coloured;
+                    r.alignments[r.best.view].coloured &&
+                    rival_in_any_stance(r, db, params, done) <= params.lone_ratio * r.best.score;
   const bool named = r.lookalike_decided ? r.best.score >= params.min_score
                                          : names_best(r.best.score, runner_up, params, lone);
   r.name = r.best.view >= 0 && named &&

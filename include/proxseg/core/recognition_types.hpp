@@ -65,8 +65,9 @@ struct RecognitionParams {
   // Partial views are not held to floating: their lowest point need not be the object's.
   double support_gap = 0.02;
   // A lone match [extension, docs/method.md "Recognition that generalises"]: a best score under
-  // min_score but at least lone_score still names the object when the runner-up scores at most
-  // lone_ratio of it (Lowe's ratio test), and only when colour was compared (both clouds
+  // min_score but at least lone_score still names the object when the runner-up, and every other
+  // object's view that explains the candidate in any stance (through the table too), scores at
+  // most lone_ratio of it (Lowe's ratio test), and only when colour was compared (both clouds
   // coloured) and another object's views competed over the whole shortlist: a piece of an
   // object (a fragment, a merge with a neighbour) that shape and colour both single out from
   // every other model. Without colour, or with a runner-up from a trial's few objects, a far
