@@ -70,6 +70,24 @@ bool scene_hides(const DepthImage& scene, const Eigen::Vector3d& q, double toler
   return std::isfinite(measured) && measured < q.z() - tolerance - 0.005 * q.z() * q.z();
 }
 
+// The counted view points q[counted[k]] (relative to the candidate's viewpoint) within delta of the
+// candidate, into out.explained; with `hopeless`, as count_coverage() says below.
+void count_explained(const Cloud& candidate, const std::vector<Eigen::Vector3d>& q,
+                     const std::vector<int>& counted, double delta, double weight,
+                     const std::function<bool(double)>* hopeless, CoverageCounts& out) {
+  constexpr std::size_t kCheckEvery = 16;
+  for (std::size_t k = 0; k < counted.size(); ++k) {
+    if (hopeless && k % kCheckEvery == 0 && weight > 0 &&
+        (*hopeless)(std::min(1.0, (out.explained + double(counted.size() - k)) / weight))) {
+      out.explained += static_cast<int>(counted.size() - k);
+      return;
+    }
+    double d2 = 0;
+    const Eigen::Vector3d p = q[counted[k]] + candidate.viewpoint;
+    out.explained += nearest(candidate.index->points, p, delta, d2) >= 0 && d2 <= delta * delta;
+  }
+}
+
 // With `hopeless`, the count of explained points stops as soon as hopeless() holds for the
 // coverage they would give if every point still to check were explained (an upper bound of it:
 // counted is known before the nearest-point queries, the dear part); explained then holds
@@ -143,18 +161,8 @@ CoverageCounts count_coverage(const Cloud& candidate, const Cloud& view,
     ++(seen[key[j]] ? out.inside : out.outside);
     counted.push_back(static_cast<int>(j));
   }
-  const double weight = out.inside + outside_weight * out.outside;
-  constexpr std::size_t kCheckEvery = 16;
-  for (std::size_t k = 0; k < counted.size(); ++k) {
-    if (hopeless && k % kCheckEvery == 0 && weight > 0 &&
-        (*hopeless)(std::min(1.0, (out.explained + double(counted.size() - k)) / weight))) {
-      out.explained += static_cast<int>(counted.size() - k);
-      break;
-    }
-    double d2 = 0;
-    const Eigen::Vector3d p = q[counted[k]] + candidate.viewpoint;
-    out.explained += nearest(candidate.index->points, p, delta, d2) >= 0 && d2 <= delta * delta;
-  }
+  count_explained(candidate, q, counted, delta, out.inside + outside_weight * out.outside, hopeless,
+                  out);
   return out;
 }
 }  // namespace
