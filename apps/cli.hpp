@@ -113,9 +113,9 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
 // a summary of what was done; a second one ends the process at once (the default action).
 void catch_interrupts();
 bool interrupted();
-// The commands that need recognition or evaluation (the libraries linked with Open3D): they are
+// The commands that need recognition or evaluation (their libraries, SQLite, OpenMP): they are
 // the program proxseg-tools, which `proxseg` runs in its own place (exec, same arguments), so
-// that a process that segments never loads Open3D (docs/architecture.md). `proxseg --help` lists
+// that a process that segments loads none of them (docs/architecture.md). `proxseg --help` lists
 // them with these descriptions.
 struct ToolCommand {
   const char* name;

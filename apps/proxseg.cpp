@@ -2,7 +2,7 @@
 // files. Exit codes: 0 success, 1 bad input, 2 usage. One file per command (cli.hpp).
 // This program segments (segment, summary) and loads only proxseg's core and io libraries; the
 // commands of kToolCommands run in proxseg-tools (proxseg_tools.cpp), which it executes in its
-// own place with the same arguments, so that a segmenting process never loads Open3D.
+// own place with the same arguments, so that a segmenting process loads neither.
 
 #include <unistd.h>
 #include <CLI/CLI.hpp>

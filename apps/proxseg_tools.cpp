@@ -1,5 +1,5 @@
 // proxseg-tools: the commands of the proxseg CLI that need recognition or evaluation (cli.hpp,
-// kToolCommands), linked with Open3D. `proxseg` runs it for them with its own arguments
+// kToolCommands), linked with those libraries. `proxseg` runs it for them with its own arguments
 // (proxseg.cpp), so its messages and help read as proxseg's.
 #include <CLI/CLI.hpp>
 

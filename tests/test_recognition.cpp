@@ -13,6 +13,7 @@
 #include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
+#include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/pipelines/registration/Feature.h>
 #include <sys/stat.h>
@@ -154,6 +155,35 @@ TEST(Descriptors, FpfhIsOpen3dsToTheLastBit) {
     }
   }
   EXPECT_GT(compared, 100000);
+}
+
+// describe()'s normals and spacing (our own neighbour search and PCA) must be Open3D's
+// EstimateNormals (hybrid search: the 30 nearest within the radius) and nearest-neighbour
+// distances: the FPFH above, and every score after it, is computed from them.
+TEST(Descriptors, NormalsAndSpacingAreOpen3ds) {
+  const DescriptorParams params;
+  long compared = 0;
+  for (const char* model : {"003_cracker_box", "025_mug", "040_large_marker", "011_banana"}) {
+    const Cloud c = describe(read_xyz(kData + "/ycbv/models/" + model + "/points.xyz"),
+                             Eigen::Vector3d::Constant(std::nan("")), params);
+    open3d::geometry::PointCloud pc;
+    pc.points_ = c.points;
+    pc.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(params.normal_radius, 30), false);
+    const open3d::geometry::KDTreeFlann tree(pc);
+    std::vector<double> spacing;
+    for (std::size_t i = 0; i < c.size(); ++i, ++compared) {
+      Eigen::Vector3d n = pc.normals_[i];
+      if (n.dot(c.points[i] - c.centroid) < 0) n = -n;  // a full model: away from the centroid
+      ASSERT_EQ(n.cast<float>(), c.normals[i].cast<float>()) << model << ", point " << i;
+      std::vector<int> index;
+      std::vector<double> d2;
+      ASSERT_EQ(tree.SearchKNN(c.points[i], 2, index, d2), 2);
+      spacing.push_back(std::sqrt(d2[1]));
+    }
+    std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+    EXPECT_EQ(spacing[spacing.size() / 2], c.spacing) << model;
+  }
+  EXPECT_GT(compared, 4000);
 }
 
 TEST(Registration, RecoversAKnownPoseOfARenderedView) {

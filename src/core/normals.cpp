@@ -6,8 +6,8 @@
 #include "util/moments.hpp"
 #include "util/nearest_points.hpp"
 #include "util/parallel_for.hpp"
+#include "util/pca_normal.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -120,27 +120,7 @@ void unorganized_normals(const Frame& frame, int k, int threads,
       [&](int j) {
         const auto neighbours = nearest.nearest(points[j], k);
         Eigen::Vector3d normal(0, 0, 1);
-        if (neighbours.size() >= 3) {
-          // Open3D's cumulants: means of x, y, z and of their products, in neighbour order.
-          Eigen::Matrix<double, 9, 1> m = Eigen::Matrix<double, 9, 1>::Zero();
-          for (const auto& [q, d2] : neighbours) {
-            const Eigen::Vector3d& p = points[q];
-            m(0) += p(0), m(1) += p(1), m(2) += p(2);
-            m(3) += p(0) * p(0), m(4) += p(0) * p(1), m(5) += p(0) * p(2);
-            m(6) += p(1) * p(1), m(7) += p(1) * p(2), m(8) += p(2) * p(2);
-          }
-          m /= static_cast<double>(neighbours.size());
-          Eigen::Matrix3d cov;
-          cov(0, 0) = m(3) - m(0) * m(0);
-          cov(1, 1) = m(6) - m(1) * m(1);
-          cov(2, 2) = m(8) - m(2) * m(2);
-          cov(0, 1) = cov(1, 0) = m(4) - m(0) * m(1);
-          cov(0, 2) = cov(2, 0) = m(5) - m(0) * m(2);
-          cov(1, 2) = cov(2, 1) = m(7) - m(1) * m(2);
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-          solver.compute(cov, Eigen::ComputeEigenvectors);
-          normal = solver.eigenvectors().col(0);
-        }
+        if (neighbours.size() >= 3) normal = detail::pca_normal(points, neighbours);
         if (normal.dot(points[j]) > 0) normal = -normal;
         normals[index[j]] = normal.cast<float>();
       },

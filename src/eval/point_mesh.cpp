@@ -2,9 +2,7 @@
 // voxel grid, surface nets (point_mesh.hpp says why this and not Poisson or ball pivoting).
 #include <proxseg/eval/point_mesh.hpp>
 #include "util/angles.hpp"
-
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/PointCloud.h>
+#include "util/nearest_points.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -106,23 +104,27 @@ double fit_plane(const std::vector<Vec3>& points, const std::vector<double>& are
 // the plane cut it too, which keeps cells out of concavities), within its cap, cut to the hull
 // of the neighbours that lie near the plane, then grown.
 std::vector<Surfel> make_surfels(const std::vector<Vec3>& points, const PointMeshParams& params) {
-  const open3d::geometry::PointCloud cloud(points);
-  const open3d::geometry::KDTreeFlann tree(cloud);
+  const detail::NearestPoints tree(points);
   const int k_max =
       std::max({params.normal_neighbours, params.cell_neighbours, kAreaNeighbour, kEdgeNeighbour});
   std::vector<int> idx;
   std::vector<double> d2;
+  // The k nearest (the point itself first) into idx and d2.
+  const auto search = [&](const Vec3& q, int k) {
+    idx.clear(), d2.clear();
+    for (const auto& [j, d] : tree.nearest(q, k)) idx.push_back(j), d2.push_back(d);
+  };
 
   std::vector<double> area(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    tree.SearchKNN(points[i], kAreaNeighbour + 1, idx, d2);
+    search(points[i], kAreaNeighbour + 1);
     area[i] = d2.back();
   }
 
   const double support_tan = std::tan(detail::radians(params.support_angle_deg));
   std::vector<Surfel> surfels(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    tree.SearchKNN(points[i], k_max + 1, idx, d2);  // idx[0] is the point itself
+    search(points[i], k_max + 1);  // idx[0] is the point itself
     const auto neighbours = static_cast<int>(idx.size());
     const auto spacing = [&](int k) { return std::sqrt(d2[std::min(k, neighbours - 1)]); };
 

@@ -5,9 +5,6 @@
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/selection.hpp>
 
-#include <open3d/geometry/KDTreeSearchParam.h>
-#include <open3d/geometry/PointCloud.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -15,6 +12,8 @@
 #include <numeric>
 
 #include "util/angles.hpp"
+#include "util/nearest_points.hpp"
+#include "util/pca_normal.hpp"
 
 namespace proxseg {
 
@@ -25,9 +24,13 @@ namespace {
 // (the foam brick): their cross-section has no preferred direction, so PCA turns the box frame
 // by an arbitrary angle and no turn of that frame maps the box onto itself.
 Eigen::Matrix3d face_axes(const std::vector<Eigen::Vector3d>& model) {
-  open3d::geometry::PointCloud cloud(model);
-  cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamKNN(20));
-  const auto& normals = cloud.normals_;
+  constexpr int kNeighbours = 20;
+  const detail::NearestPoints search(model);
+  std::vector<Eigen::Vector3d> normals(model.size(), Eigen::Vector3d::UnitZ());
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    const auto neighbours = search.nearest(model[i], kNeighbours);
+    if (neighbours.size() >= 3) normals[i] = detail::pca_normal(model, neighbours);
+  }
   const double parallel = std::cos(detail::radians(5)), orthogonal = std::sin(detail::radians(5));
   const std::size_t stride = std::max<std::size_t>(1, normals.size() / 300);
   auto most_common = [&](auto accept) {

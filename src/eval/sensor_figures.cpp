@@ -1,8 +1,7 @@
 // A depth sensor's figures measured on real frames with ground truth (sensor_figures.hpp).
 #include <proxseg/eval/sensor_figures.hpp>
 
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/PointCloud.h>
+#include "util/nearest_points.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -57,15 +56,13 @@ SensorFigures::ObjectResidual residual(const Frame& f, const ObjectTruth& o,
   r.object = o.name;
   std::vector<Eigen::Vector3d> placed;
   for (const auto& p : model) placed.push_back((o.pose * p.homogeneous()).head<3>());
-  const open3d::geometry::PointCloud cloud(placed);
-  const open3d::geometry::KDTreeFlann tree(cloud);
+  const detail::NearestPoints tree(placed);
   std::vector<double> d, range;
-  std::vector<int> index(1);
-  std::vector<double> d2(1);
   for (int i : o.points) {
     const Eigen::Vector3d q = f.xyz[i].cast<double>();
-    if (tree.SearchKNN(q, 1, index, d2) < 1) continue;
-    d.push_back(std::sqrt(d2[0]));
+    const auto nearest = tree.nearest(q, 1);
+    if (nearest.empty()) continue;
+    d.push_back(std::sqrt(nearest[0].second));
     range.push_back(q.norm());
   }
   if (d.empty()) return r;

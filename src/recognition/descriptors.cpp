@@ -8,8 +8,9 @@
 #include "search_index.hpp"
 #include "signatures.hpp"
 
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/PointCloud.h>
+#include "util/nearest_points.hpp"
+#include "util/pca_normal.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -24,17 +25,30 @@ namespace {
 double median_spacing(const Cloud& c) {
   std::vector<double> d;
   d.reserve(c.size());
-  open3d::geometry::KDTreeFlann tree;
-  Eigen::MatrixXd data(3, c.size());  // must outlive the tree: Open3D keeps a view of it
-  for (std::size_t i = 0; i < c.size(); ++i) data.col(i) = c.points[i];
-  tree.SetMatrixData(data);
-  std::vector<int> idx;
-  std::vector<double> dist;
-  for (const auto& p : c.points)
-    if (tree.SearchKNN(p, 2, idx, dist) == 2) d.push_back(std::sqrt(dist[1]));
+  const detail::NearestPoints index(c.points);
+  for (const auto& p : c.points) {
+    const auto two = index.nearest(p, 2);  // the point itself (or a twin) and its nearest
+    if (two.size() == 2) d.push_back(std::sqrt(two[1].second));
+  }
   if (d.empty()) return 0;
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
   return d[d.size() / 2];
+}
+
+// The normals of the points from their max_nn nearest within the radius (pca_normal()), as
+// Open3D's EstimateNormals with a hybrid search gives them: with fewer than 3 neighbours, the
+// identity's first eigenvector.
+std::vector<Eigen::Vector3d> estimate_normals(const std::vector<Eigen::Vector3d>& points,
+                                              double radius, int max_nn) {
+  const detail::NearestPoints index(points);
+  std::vector<Eigen::Vector3d> normals(points.size());
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    const auto neighbours = index.nearest(points[i], max_nn, radius);
+    normals[i] =
+        neighbours.size() >= 3 ? detail::pca_normal(points, neighbours) : Eigen::Vector3d::UnitX();
+  }
+  return normals;
 }
 
 // Rounds each coordinate to float precision and back: the precision a cloud has in a PCD file or
@@ -116,35 +130,39 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
   for (double r : params.fpfh_radii)
     if (!(r > 0)) throw InputError("fpfh_radii: expected radii > 0");
   if (!(params.normal_radius > 0)) throw InputError("normal_radius: expected > 0");
-  open3d::geometry::PointCloud pc;
-  pc.points_.reserve(points.size());
+  std::vector<Eigen::Vector3d> kept;
+  kept.reserve(points.size());
   std::vector<Rgb> kept_colours;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (points[i].allFinite()) {
-      pc.points_.push_back(round_to_float(points[i]));
+      kept.push_back(round_to_float(points[i]));
       if (!colours.empty()) kept_colours.push_back(colours[i]);
     }
-  if (pc.points_.size() < 10)
-    throw InputError("cloud has " + std::to_string(pc.points_.size()) +
+  if (kept.size() < 10)
+    throw InputError("cloud has " + std::to_string(kept.size()) +
                      " points after the voxel filter (expected at least 10)");
-  pc.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(params.normal_radius, 30), false);
+  constexpr int kNormalNeighbours = 30;
+  std::vector<Eigen::Vector3d> normals =
+      estimate_normals(kept, params.normal_radius, kNormalNeighbours);
   Cloud c;
-  c.points = pc.points_;
+  c.points = std::move(kept);
   c.colours = std::move(kept_colours);
   c.centroid = mean(c.points);
   c.viewpoint = viewpoint;
   const bool from_viewpoint = viewpoint.allFinite();
   for (std::size_t i = 0; i < c.size(); ++i) {
-    Eigen::Vector3d n = pc.normals_[i];
+    Eigen::Vector3d& n = normals[i];
     const Eigen::Vector3d out = from_viewpoint ? Eigen::Vector3d(viewpoint - c.points[i])
                                                : Eigen::Vector3d(c.points[i] - c.centroid);
     if (n.dot(out) < 0) n = -n;
-    pc.normals_[i] = round_to_float(n);
+    n = round_to_float(n);
   }
-  c.normals = pc.normals_;
+  c.normals = std::move(normals);
   constexpr int kMaxNeighbours = 100;
-  c.features = fpfh_features(pc.points_, pc.normals_, params.fpfh_radii, kMaxNeighbours)
-                   .unaryExpr([](double x) { return static_cast<double>(static_cast<float>(x)); });
+  c.features =
+      fpfh_features(c.points, c.normals, params.fpfh_radii, kMaxNeighbours).unaryExpr([](double x) {
+        return static_cast<double>(static_cast<float>(x));
+      });
   c.index = build_index(c);
   c.spacing = median_spacing(c);
   c.signature = make_signature(c);

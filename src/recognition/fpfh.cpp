@@ -2,8 +2,7 @@
 #include "fpfh.hpp"
 
 #include "util/angles.hpp"
-
-#include <open3d/geometry/KDTreeFlann.h>
+#include "util/nearest_points.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -15,26 +14,25 @@ namespace {
 
 constexpr int kBins = 11;  // per angle; three angles
 
-// The max_nn nearest points of each point (itself first), nearest first, with their squared
-// distances: the list every radius cuts.
+// The max_nn nearest points of each point (itself first) within the radius, nearest first,
+// with their squared distances: the list every radius up to it cuts.
 struct Neighbours {
   std::vector<std::vector<int>> index;
   std::vector<std::vector<double>> distance2;
 };
 
-Neighbours nearest_neighbours(const std::vector<Eigen::Vector3d>& points, int max_nn) {
-  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));  // must outlive the tree
-  for (std::size_t i = 0; i < points.size(); ++i)
-    data.col(static_cast<Eigen::Index>(i)) = points[i];
-  open3d::geometry::KDTreeFlann tree;
-  tree.SetMatrixData(data);
+Neighbours nearest_neighbours(const std::vector<Eigen::Vector3d>& points, int max_nn,
+                              double radius) {
+  const NearestPoints search(points);
   Neighbours n;
   n.index.resize(points.size());
   n.distance2.resize(points.size());
-  const double unbounded = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < static_cast<int>(points.size()); ++i)
-    tree.SearchHybrid(points[i], unbounded, max_nn, n.index[i], n.distance2[i]);
+    for (const auto& [j, d2] : search.nearest(points[i], max_nn, radius)) {
+      n.index[i].push_back(j);
+      n.distance2[i].push_back(d2);
+    }
   return n;
 }
 
@@ -135,8 +133,9 @@ Eigen::MatrixXd fpfh_features(const std::vector<Eigen::Vector3d>& points,
                               const std::vector<double>& radii, int max_nn) {
   const Eigen::Index n = static_cast<Eigen::Index>(points.size());
   Eigen::MatrixXd out(3 * kBins * static_cast<Eigen::Index>(radii.size()), n);
-  if (n == 0) return out;
-  const Neighbours nb = nearest_neighbours(points, max_nn);
+  if (n == 0 || radii.empty()) return out;
+  const Neighbours nb =
+      nearest_neighbours(points, max_nn, *std::max_element(radii.begin(), radii.end()));
   for (std::size_t r = 0; r < radii.size(); ++r)
     out.middleRows(static_cast<Eigen::Index>(r) * 3 * kBins, 3 * kBins) =
         fpfh(points, normals, nb, radii[r]);

@@ -35,13 +35,13 @@ PointGrid make_grid(const std::vector<Eigen::Vector3d>& points) {
   return g;
 }
 
-// Nearest point of the grid to q among the cells of the box of half-width r around it (-1 if
-// none in the ball of radius r), squared distance in d2. The box is found from q's position in
-// cell units (cq) and r in them (rc), widened by a millionth of a cell: far more than their
-// rounding, so that every cell holding a point within r is searched (the distance decides), and
-// without a division per bound.
+// The nearest point of the grid to q among the cells of the box of half-width rc cells around
+// it (cq: q in cell units) with a squared distance of at most best, the last in cell order of
+// those as near: its place in the grid's order, or -1 (best then unchanged). The box is widened
+// by a millionth of a cell, far more than the rounding of cq and rc, so that every cell holding
+// a point within rc cells of q is searched (the distance decides), without a division per bound.
 int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq,
-                   double r, double rc, double& d2) {
+                   double rc, double& best) {
   constexpr double kSlack = 1e-6;
   Eigen::Vector3i a, b;
   for (int k = 0; k < 3; ++k) {
@@ -51,7 +51,6 @@ int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Ve
     a[k] = static_cast<int>(std::max(lo, 0.0));
     b[k] = static_cast<int>(std::min(hi, static_cast<double>(g.dims[k] - 1)));
   }
-  double best = r * r;
   int found = -1;
   for (int z = a.z(); z <= b.z(); ++z)
     for (int y = a.y(); y <= b.y(); ++y) {
@@ -64,9 +63,7 @@ int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Ve
         }
       }
     }
-  if (found < 0) return -1;
-  d2 = best;
-  return g.order[found];
+  return found;
 }
 
 }  // namespace
@@ -77,12 +74,24 @@ int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) 
   if (g.order.empty()) return -1;
   const double inverse = 1 / g.cell;
   const Eigen::Vector3d cq = (q - g.origin) * inverse;
-  const double first = 0.5 * g.cell;
-  if (r > first) {
-    const int j = nearest_in_box(g, q, cq, first, 0.5, d2);
-    if (j >= 0) return j;
+  double best = r * r;
+  int k = -1;
+  // The box of half a cell first: a point found in it within half a cell is the nearest (a
+  // nearer one would lie in the box too); one farther bounds the search instead of r. Every
+  // point as near as the nearest lies in the smaller box, which is searched in the same cell
+  // order: the same point as from the box of r.
+  if (r > 0.5 * g.cell) {
+    k = nearest_in_box(g, q, cq, 0.5, best);
+    if (k >= 0 && best <= 0.25 * g.cell * g.cell) {
+      d2 = best;
+      return g.order[k];
+    }
   }
-  return nearest_in_box(g, q, cq, r, r * inverse, d2);
+  const int j = nearest_in_box(g, q, cq, (k >= 0 ? std::sqrt(best) : r) * inverse, best);
+  if (j >= 0) k = j;
+  if (k < 0) return -1;
+  d2 = best;
+  return g.order[k];
 }
 
 std::shared_ptr<const SearchIndex> build_index(const Cloud& c) {

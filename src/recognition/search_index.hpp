@@ -39,7 +39,9 @@ namespace detail {
 // Nearest point of the grid to q within r (-1 if none), squared distance in d2. Most queries
 // (ICP after its first steps, fitness, coverage) have a point within half a cell, and the box
 // of that radius spans ~8 cells instead of ~64 for ICP's 1.5 cm: searching it first is exact (a
-// nearer point would lie in it too) and about four times cheaper.
+// nearer point would lie in it too) and about four times cheaper. A point found in it farther
+// than half a cell narrows the second box to its distance (ICP's queries: 13 % fewer
+// instructions).
 int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2);
 
 // The grid of the cloud's points and its features as floats, whole and per radius block.

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -48,15 +49,22 @@ class NearestPoints {
   std::size_t size() const { return points_.size(); }
 
   // The k nearest points to q (fewer when there are fewer), nearest first, ties to the smaller
-  // index; each as (index, squared distance).
-  std::vector<std::pair<int, double>> nearest(const Eigen::Vector3d& q, int k) const {
+  // index; each as (index, squared distance). With a radius, only those at a squared distance
+  // under radius^2: the k nearest cut at the radius, as Open3D's hybrid search gives them.
+  // The squared distance is summed x, y, z in that order, as nanoflann (Open3D's) does.
+  std::vector<std::pair<int, double>> nearest(
+      const Eigen::Vector3d& q, int k,
+      double radius = std::numeric_limits<double>::infinity()) const {
     std::vector<std::pair<int, double>> best;
     if (points_.empty() || k <= 0) return best;
+    const double radius2 = radius * radius;
     auto closer = [](const std::pair<int, double>& a, const std::pair<int, double>& b) {
       return a.second < b.second || (a.second == b.second && a.first < b.first);
     };
     auto consider = [&](int i) {
-      const std::pair<int, double> c{i, (points_[i] - q).squaredNorm()};
+      const Eigen::Vector3d d = points_[i] - q;
+      const std::pair<int, double> c{i, d.x() * d.x() + d.y() * d.y() + d.z() * d.z()};
+      if (!(c.second < radius2)) return;
       if (static_cast<int>(best.size()) == k && !closer(c, best.back())) return;
       best.insert(std::upper_bound(best.begin(), best.end(), c, closer), c);
       if (static_cast<int>(best.size()) > k) best.pop_back();
@@ -82,7 +90,8 @@ class NearestPoints {
         }
       }
       const double reach2 = (r * cell_) * (r * cell_) + outside2;
-      if (static_cast<int>(best.size()) == k && best.back().second <= reach2) break;
+      if ((static_cast<int>(best.size()) == k && best.back().second <= reach2) || reach2 >= radius2)
+        break;
     }
     return best;
   }
