@@ -17,6 +17,7 @@
 
 namespace proxseg {
 
+using detail::any_within;
 using detail::apply;
 using detail::nearest;
 
@@ -27,7 +28,9 @@ double fitness(const Cloud& candidate, const Cloud& view, const Eigen::Matrix4d&
   double sum = 0;
   for (const auto& c : candidate.points) {
     double d2 = 0;
-    if (nearest(view.index->points, apply(inv, c), delta, d2) >= 0 && d2 <= delta * delta) {
+    if (!rmse) {
+      n += any_within(view.index->points, apply(inv, c), delta);
+    } else if (nearest(view.index->points, apply(inv, c), delta, d2) >= 0 && d2 <= delta * delta) {
       ++n;
       sum += d2;
     }
@@ -41,9 +44,7 @@ std::vector<char> explained(const std::vector<Eigen::Vector3d>& points, const Cl
   const Eigen::Matrix4d inv = pose.inverse();
   std::vector<char> out(points.size(), 0);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    double d2 = 0;
-    out[i] =
-        nearest(view.index->points, apply(inv, points[i]), delta, d2) >= 0 && d2 <= delta * delta;
+    out[i] = any_within(view.index->points, apply(inv, points[i]), delta);
   }
   return out;
 }
@@ -82,9 +83,8 @@ void count_explained(const Cloud& candidate, const std::vector<Eigen::Vector3d>&
       out.explained += static_cast<int>(counted.size() - k);
       return;
     }
-    double d2 = 0;
-    const Eigen::Vector3d p = q[counted[k]] + candidate.viewpoint;
-    out.explained += nearest(candidate.index->points, p, delta, d2) >= 0 && d2 <= delta * delta;
+    out.explained +=
+        any_within(candidate.index->points, q[counted[k]] + candidate.viewpoint, delta);
   }
 }
 
@@ -245,10 +245,7 @@ Alignment score_pose(const Cloud& candidate, const Cloud& view, const Eigen::Mat
     // The view's side: its points that the candidate explains, within reach of a candidate point.
     std::vector<Rgb> shown;
     for (std::size_t j = 0; j < view.size(); ++j) {
-      double d2 = 0;
-      if (nearest(candidate.index->points, apply(pose, view.points[j]), params.score_distance,
-                  d2) >= 0 &&
-          d2 <= sd2)
+      if (any_within(candidate.index->points, apply(pose, view.points[j]), params.score_distance))
         shown.push_back(view.colours[j]);
     }
     const double h = chromaticity_histogram_agreement(explained_colours, shown);

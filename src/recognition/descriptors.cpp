@@ -51,12 +51,17 @@ std::vector<Eigen::Vector3d> estimate_normals(const std::vector<Eigen::Vector3d>
   return normals;
 }
 
-// Rounds each coordinate to float precision and back: the precision a cloud has in a PCD file or
-// in the database cache.
+// x rounded to float precision: the precision of a cloud in a PCD file or in the database. The
+// float is stored and read back through a volatile: GCC 12's vectoriser (at -O2 and -O3) folds
+// the truncation and extension of two adjacent coordinates away, which left x and y of every
+// point and normal unrounded while z was rounded.
+double to_float_precision(double x) {
+  volatile float f = static_cast<float>(x);
+  return f;
+}
+
 Eigen::Vector3d round_to_float(const Eigen::Vector3d& v) {
-  return {static_cast<double>(static_cast<float>(v.x())),
-          static_cast<double>(static_cast<float>(v.y())),
-          static_cast<double>(static_cast<float>(v.z()))};
+  return {to_float_precision(v.x()), to_float_precision(v.y()), to_float_precision(v.z())};
 }
 
 Eigen::Vector3d mean(const std::vector<Eigen::Vector3d>& p) {
@@ -161,7 +166,7 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
   constexpr int kMaxNeighbours = 100;
   c.features =
       fpfh_features(c.points, c.normals, params.fpfh_radii, kMaxNeighbours).unaryExpr([](double x) {
-        return static_cast<double>(static_cast<float>(x));
+        return to_float_precision(x);
       });
   c.index = build_index(c);
   c.spacing = median_spacing(c);

@@ -66,9 +66,41 @@ int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Ve
   return found;
 }
 
+// Whether a point of the box of half-width rc cells around q (as nearest_in_box()) lies within
+// squared distance r2 of q: the first one found answers.
+bool any_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq, double rc,
+                double r2) {
+  constexpr double kSlack = 1e-6;
+  Eigen::Vector3i a, b;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = cq[k] - rc - kSlack, hi = cq[k] + rc + kSlack;
+    if (!(hi >= 0 && lo < g.dims[k])) return false;  // off the grid (or not a number)
+    a[k] = static_cast<int>(std::max(lo, 0.0));
+    b[k] = static_cast<int>(std::min(hi, static_cast<double>(g.dims[k] - 1)));
+  }
+  for (int z = a.z(); z <= b.z(); ++z)
+    for (int y = a.y(); y <= b.y(); ++y) {
+      const std::size_t row = (static_cast<std::size_t>(z) * g.dims.y() + y) * g.dims.x();
+      for (int k = g.start[row + a.x()], e = g.start[row + b.x() + 1]; k < e; ++k)
+        if ((g.points[k] - q).squaredNorm() <= r2) return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 namespace detail {
+
+bool any_within(const PointGrid& g, const Eigen::Vector3d& q, double r) {
+  if (g.order.empty()) return false;
+  const double inverse = 1 / g.cell;
+  const Eigen::Vector3d cq = (q - g.origin) * inverse;
+  const double r2 = r * r;
+  // The box of half a cell first, as nearest(): most queries that have a point within r have one
+  // there, and any point within r lies in the box of r too.
+  if (r > 0.5 * g.cell && any_in_box(g, q, cq, 0.5, r2)) return true;
+  return any_in_box(g, q, cq, r * inverse, r2);
+}
 
 int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2) {
   if (g.order.empty()) return -1;

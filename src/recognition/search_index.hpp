@@ -44,6 +44,10 @@ namespace detail {
 // instructions).
 int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2);
 
+// Whether the grid has a point within r of q: nearest(g, q, r, d2) >= 0 && d2 <= r * r, without
+// looking further once one is found (the scores that count explained points).
+bool any_within(const PointGrid& g, const Eigen::Vector3d& q, double r);
+
 // The grid of the cloud's points and its features as floats, whole and per radius block.
 std::shared_ptr<const SearchIndex> build_index(const Cloud& c);
 
