@@ -16,16 +16,23 @@ Eigen::Matrix4d icp(const Cloud& cand, const Cloud& view, Eigen::Matrix4d pose,
                     const RegistrationParams& p, int& iterations) {
   Eigen::Matrix4d inv = pose.inverse();  // model <- candidate
   const double r2 = p.icp_distance * p.icp_distance;
+  const PointGrid& grid = view.index->points;
   std::vector<Eigen::Vector3d> src, dst, nrm;
+  // Each candidate point's match of the step before (-1: none): after the first steps the
+  // points move by a fraction of the spacing, and the previous match bounds the search.
+  std::vector<int> previous(cand.size(), -1);
   iterations = 0;
   for (int it = 0; it < p.icp_iterations; ++it) {
     src.clear();
     dst.clear();
     nrm.clear();
-    for (const auto& c : cand.points) {
-      const Eigen::Vector3d q = apply(inv, c);
+    for (std::size_t i = 0; i < cand.size(); ++i) {
+      const Eigen::Vector3d q = apply(inv, cand.points[i]);
       double d2 = 0;
-      const int j = nearest(view.index->points, q, p.icp_distance, d2);
+      const double bound2 = previous[i] < 0 ? r2 : (view.points[previous[i]] - q).squaredNorm();
+      const int j = bound2 < 0.25 * grid.cell * grid.cell ? nearest_within(grid, q, bound2, d2)
+                                                          : nearest(grid, q, p.icp_distance, d2);
+      previous[i] = j;
       if (j < 0 || d2 > r2) continue;
       src.push_back(q);
       dst.push_back(view.points[j]);

@@ -91,6 +91,17 @@ bool any_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vecto
 
 namespace detail {
 
+int nearest_within(const PointGrid& g, const Eigen::Vector3d& q, double bound2, double& d2) {
+  if (g.order.empty()) return -1;
+  const double inverse = 1 / g.cell;
+  const Eigen::Vector3d cq = (q - g.origin) * inverse;
+  double best = bound2;
+  const int k = nearest_in_box(g, q, cq, std::sqrt(bound2) * inverse, best);
+  if (k < 0) return -1;
+  d2 = best;
+  return g.order[k];
+}
+
 bool any_within(const PointGrid& g, const Eigen::Vector3d& q, double r) {
   if (g.order.empty()) return false;
   const double inverse = 1 / g.cell;

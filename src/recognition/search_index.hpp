@@ -44,6 +44,12 @@ namespace detail {
 // instructions).
 int nearest(const PointGrid& g, const Eigen::Vector3d& q, double r, double& d2);
 
+// The same when some point of the grid is known to lie within squared distance bound2 of q (at
+// most r^2): the box searched is that distance's (ICP's previous match, mostly a fraction of a
+// cell away). Every point as near as the nearest lies in it, in the same cell order: the same
+// point as nearest() gives.
+int nearest_within(const PointGrid& g, const Eigen::Vector3d& q, double bound2, double& d2);
+
 // Whether the grid has a point within r of q: nearest(g, q, r, d2) >= 0 && d2 <= r * r, without
 // looking further once one is found (the scores that count explained points).
 bool any_within(const PointGrid& g, const Eigen::Vector3d& q, double r);

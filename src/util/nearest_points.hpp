@@ -58,20 +58,52 @@ class NearestPoints {
     std::vector<std::pair<int, double>> best;
     if (points_.empty() || k <= 0) return best;
     const double radius2 = radius * radius;
-    auto closer = [](const std::pair<int, double>& a, const std::pair<int, double>& b) {
+    const auto closer = [](const std::pair<int, double>& a, const std::pair<int, double>& b) {
       return a.second < b.second || (a.second == b.second && a.first < b.first);
     };
-    auto consider = [&](int i) {
+    const auto distance2 = [&](int i) {
       const Eigen::Vector3d d = points_[i] - q;
-      const std::pair<int, double> c{i, d.x() * d.x() + d.y() * d.y() + d.z() * d.z()};
-      if (!(c.second < radius2)) return;
-      if (static_cast<int>(best.size()) == k && !closer(c, best.back())) return;
-      best.insert(std::upper_bound(best.begin(), best.end(), c, closer), c);
-      if (static_cast<int>(best.size()) > k) best.pop_back();
+      return d.x() * d.x() + d.y() * d.y() + d.z() * d.z();
     };
-    // q's cell, clamped into the grid. A point of a cell r + 1 or more cells from it lies at
-    // least r cells from q's nearest point of the box, and q is `outside` further (the box is
-    // convex): squared distance at least (r cell)^2 + outside^2.
+    if (std::isfinite(radius)) {
+      // Every point within the radius, then the k nearest of them: cheaper than keeping a
+      // sorted list of k while the rings are walked (FPFH's 100 neighbours).
+      walk_rings(
+          q,
+          [&](int i) {
+            const double d2 = distance2(i);
+            if (d2 < radius2) best.emplace_back(i, d2);
+          },
+          [&](double reach2) { return reach2 >= radius2; });
+      if (static_cast<int>(best.size()) > k) {
+        std::nth_element(best.begin(), best.begin() + k, best.end(), closer);
+        best.resize(k);
+      }
+      std::sort(best.begin(), best.end(), closer);
+      return best;
+    }
+    walk_rings(
+        q,
+        [&](int i) {
+          const std::pair<int, double> c{i, distance2(i)};
+          if (static_cast<int>(best.size()) == k && !closer(c, best.back())) return;
+          best.insert(std::upper_bound(best.begin(), best.end(), c, closer), c);
+          if (static_cast<int>(best.size()) > k) best.pop_back();
+        },
+        [&](double reach2) {
+          return static_cast<int>(best.size()) == k && best.back().second <= reach2;
+        });
+    return best;
+  }
+
+ private:
+  // Calls visit(i) for the points of the cells around q, ring by ring outwards from q's cell
+  // (clamped into the grid), until done(reach2) holds for the squared distance below which no
+  // point of a further ring lies. A point of a cell r + 1 or more cells from q's lies at least r
+  // cells from q's nearest point of the box, and q is `outside` further (the box is convex):
+  // squared distance at least (r cell)^2 + outside^2.
+  template <typename Visit, typename Done>
+  void walk_rings(const Eigen::Vector3d& q, Visit visit, Done done) const {
     const std::array<int, 3> centre = cell_of(q);
     const double outside2 = (q - q.cwiseMax(lo_).cwiseMin(hi_)).squaredNorm();
     const int last = std::max({dims_[0], dims_[1], dims_[2]});
@@ -85,18 +117,14 @@ class NearestPoints {
           for (int z = centre[2] - r; z <= centre[2] + r; z += side || r == 0 ? 1 : 2 * r) {
             if (z < 0 || z >= dims_[2]) continue;
             const std::size_t c = index({x, y, z});
-            for (int j = start_[c]; j < start_[c + 1]; ++j) consider(order_[j]);
+            for (int j = start_[c]; j < start_[c + 1]; ++j) visit(order_[j]);
           }
         }
       }
-      const double reach2 = (r * cell_) * (r * cell_) + outside2;
-      if ((static_cast<int>(best.size()) == k && best.back().second <= reach2) || reach2 >= radius2)
-        break;
+      if (done((r * cell_) * (r * cell_) + outside2)) break;
     }
-    return best;
   }
 
- private:
   std::array<int, 3> cell_of(const Eigen::Vector3d& p) const {
     std::array<int, 3> c;
     for (int a = 0; a < 3; ++a)
