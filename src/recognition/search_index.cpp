@@ -35,56 +35,64 @@ PointGrid make_grid(const std::vector<Eigen::Vector3d>& points) {
   return g;
 }
 
-// The nearest point of the grid to q among the cells of the box of half-width rc cells around
-// it (cq: q in cell units) with a squared distance of at most best, the last in cell order of
-// those as near: its place in the grid's order, or -1 (best then unchanged). The box is widened
-// by a millionth of a cell, far more than the rounding of cq and rc, so that every cell holding
-// a point within rc cells of q is searched (the distance decides), without a division per bound.
-int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq,
-                   double rc, double& best) {
+// The cells of the box of half-width rc cells around q (cq: q in cell units), clamped to the
+// grid: a..b inclusive; false when the box misses the grid. The box is widened by a millionth of
+// a cell, far more than the rounding of cq and rc, so that every cell holding a point within rc
+// cells of q is searched (the distance decides), without a division per bound. Inlined: it
+// runs for every query, and as a call it cost 2.5 % of a frame's instructions.
+[[gnu::always_inline]] inline bool box_cells(const PointGrid& g, const Eigen::Vector3d& cq,
+                                             double rc, Eigen::Vector3i& a, Eigen::Vector3i& b) {
   constexpr double kSlack = 1e-6;
-  Eigen::Vector3i a, b;
   for (int k = 0; k < 3; ++k) {
     const double lo = cq[k] - rc - kSlack, hi = cq[k] + rc + kSlack;
-    if (!(hi >= 0 && lo < g.dims[k])) return -1;  // off the grid (or not a number)
+    if (!(hi >= 0 && lo < g.dims[k])) return false;  // off the grid (or not a number)
     // floor() of the clamped, non-negative bounds as a truncation.
     a[k] = static_cast<int>(std::max(lo, 0.0));
     b[k] = static_cast<int>(std::min(hi, static_cast<double>(g.dims[k] - 1)));
   }
-  int found = -1;
-  for (int z = a.z(); z <= b.z(); ++z)
-    for (int y = a.y(); y <= b.y(); ++y) {
-      const std::size_t row = (static_cast<std::size_t>(z) * g.dims.y() + y) * g.dims.x();
-      for (int k = g.start[row + a.x()], e = g.start[row + b.x() + 1]; k < e; ++k) {
-        const double d = (g.points[k] - q).squaredNorm();
-        if (d <= best) {
-          best = d;
-          found = k;
-        }
-      }
-    }
-  return found;
+  return true;
 }
 
-// Whether a point of the box of half-width rc cells around q (as nearest_in_box()) lies within
-// squared distance r2 of q: the first one found answers.
-bool any_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq, double rc,
-                double r2) {
-  constexpr double kSlack = 1e-6;
-  Eigen::Vector3i a, b;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = cq[k] - rc - kSlack, hi = cq[k] + rc + kSlack;
-    if (!(hi >= 0 && lo < g.dims[k])) return false;  // off the grid (or not a number)
-    a[k] = static_cast<int>(std::max(lo, 0.0));
-    b[k] = static_cast<int>(std::min(hi, static_cast<double>(g.dims[k] - 1)));
-  }
+// Calls visit(k) for the points of the box's cells in cell order (k: the place in the grid's
+// order) until it returns true; whether one did.
+template <typename Visit>
+bool visit_box(const PointGrid& g, const Eigen::Vector3i& a, const Eigen::Vector3i& b,
+               Visit visit) {
   for (int z = a.z(); z <= b.z(); ++z)
     for (int y = a.y(); y <= b.y(); ++y) {
       const std::size_t row = (static_cast<std::size_t>(z) * g.dims.y() + y) * g.dims.x();
       for (int k = g.start[row + a.x()], e = g.start[row + b.x() + 1]; k < e; ++k)
-        if ((g.points[k] - q).squaredNorm() <= r2) return true;
+        if (visit(k)) return true;
     }
   return false;
+}
+
+// The nearest point of the grid to q among the cells of the box of half-width rc cells around
+// it with a squared distance of at most best, the last in cell order of those as near: its
+// place in the grid's order, or -1 (best then unchanged).
+int nearest_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq,
+                   double rc, double& best) {
+  Eigen::Vector3i a, b;
+  if (!box_cells(g, cq, rc, a, b)) return -1;
+  int found = -1;
+  visit_box(g, a, b, [&](int k) {
+    const double d = (g.points[k] - q).squaredNorm();
+    if (d <= best) {
+      best = d;
+      found = k;
+    }
+    return false;
+  });
+  return found;
+}
+
+// Whether a point of the box of half-width rc cells around q lies within squared distance r2 of
+// q: the first one found answers.
+bool any_in_box(const PointGrid& g, const Eigen::Vector3d& q, const Eigen::Vector3d& cq, double rc,
+                double r2) {
+  Eigen::Vector3i a, b;
+  return box_cells(g, cq, rc, a, b) &&
+         visit_box(g, a, b, [&](int k) { return (g.points[k] - q).squaredNorm() <= r2; });
 }
 
 }  // namespace
