@@ -295,7 +295,7 @@ bench-real: deps-bench configure
 	@echo "docs/results.md (real) regenerated; per-object CSV in $(REAL_OUT)/"
 
 format:
-	@clang-format -i include/proxseg/*.hpp include/proxseg/*/*.hpp src/*/*.cpp src/*/*.hpp apps/*.cpp apps/*.hpp tests/*.cpp tests/*.hpp bench/*.cpp fuzz/*.cpp fuzz/*.hpp python/src/*.cpp python/src/*.hpp
+	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
 
 clean:
 	rm -rf $(BUILD) $(DEMO_OUT)

@@ -1,5 +1,6 @@
 // `segment --batch` and `recognize --batch`: the frames of a dataset, sharded and resumable,
 // logged frame by frame (docs/batch.md); and `proxseg summary`, which merges shard summaries.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/batch_start.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -46,10 +47,10 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_flag("--resume", o.resume,
                 "Skip the frames an earlier run into OUT finished (outputs whole, as its "
                 "summary recorded them); a killed run's other frames are done again");
-  cmd->add_option("--colour-pattern", o.naming.color,
+  cmd->add_option("--colour-pattern", o.naming.colour,
                   "RGB-D pairs in a batch: colour image name, {id} = the frame's name")
       ->capture_default_str();
-  cmd->add_option("--color-pattern", o.naming.color)->group("");  // the other spelling
+  cmd->add_option("--color-pattern", o.naming.colour)->group("");  // the other spelling
   cmd->add_option("--depth-pattern", o.naming.depth, "RGB-D pairs: depth image name")
       ->capture_default_str();
   cmd->add_option("--meta-pattern", o.naming.meta,
@@ -98,7 +99,7 @@ void check_batch_options(const SegmentOptions& o) {
       throw CLI::ValidationError("--shard and --resume go with --batch");
     return;
   }
-  if (!o.input.empty() || !o.color.empty() || !o.depth.empty() || !o.meta.empty())
+  if (!o.input.empty() || !o.colour.empty() || !o.depth.empty() || !o.meta.empty())
     throw CLI::ValidationError(
         "--batch takes the frames instead of INPUT or --color/--depth/--meta");
   parse_shard(o.shard);

@@ -1,4 +1,5 @@
 // The pieces shared by the commands of the proxseg CLI (cli.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/parameters.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/version.hpp>
@@ -148,7 +149,7 @@ int program_main(int argc, char** argv,
 
 std::string input_name(const SegmentOptions& o) {
   if (!o.batch.empty()) return o.batch.front();
-  return o.input.empty() ? o.color : o.input;
+  return o.input.empty() ? o.colour : o.input;
 }
 
 int naming_input(const std::string& input, const char* doing, const std::function<int()>& command) {
@@ -169,8 +170,8 @@ int naming_input(const std::string& input, const char* doing, const std::functio
 }
 
 void add_scene_options(CLI::App* cmd, SegmentOptions& o, bool recognition) {
-  cmd->add_option("--colour", o.color, "Colour image (PNG/JPG) of an RGB-D pair");
-  cmd->add_option("--color", o.color)->group("");  // the other spelling
+  cmd->add_option("--colour", o.colour, "Colour image (PNG/JPG) of an RGB-D pair");
+  cmd->add_option("--color", o.colour)->group("");  // the other spelling
   cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
   cmd->add_option("--intrinsics", o.intrinsics,
                   "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
@@ -192,7 +193,7 @@ proxseg::Frame read_input(const SegmentOptions& o) {
   if (!o.input.empty()) return proxseg::read_point_cloud(o.input);
   const proxseg::Intrinsics k =
       o.meta.empty() ? proxseg::read_intrinsics(o.intrinsics) : proxseg::read_ycb_meta(o.meta);
-  return proxseg::read_rgbd(o.color, o.depth, k);
+  return proxseg::read_rgbd(o.colour, o.depth, k);
 }
 
 void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
@@ -234,14 +235,14 @@ void make_parent(const std::string& path) {
 }
 
 void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs) {
-  const bool rgbd = !o.color.empty() || !o.depth.empty();
+  const bool rgbd = !o.colour.empty() || !o.depth.empty();
   if (o.input.empty() == !rgbd)
     throw CLI::ValidationError("give either INPUT or --color and --depth");
-  if (rgbd && (o.color.empty() || o.depth.empty()))
+  if (rgbd && (o.colour.empty() || o.depth.empty()))
     throw CLI::ValidationError("--color and --depth go together");
   if (rgbd && o.intrinsics.empty() == o.meta.empty())
     throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
-  for (const std::string& in : {o.input, o.color, o.depth})
+  for (const std::string& in : {o.input, o.colour, o.depth})
     for (const std::string& out : outputs)
       if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(out) &&
           std::filesystem::equivalent(in, out))

@@ -55,7 +55,7 @@ void warn_renamed(const std::vector<std::string>& notes);
 
 // The scene input and the segmentation flags of `segment` and `recognize`.
 struct SegmentOptions : BatchOptions {
-  std::string input, color, depth, intrinsics, meta;
+  std::string input, colour, depth, intrinsics, meta;
   std::string outputs = "pcd,png,json";  // --outputs
   std::string preset = "default";
   ParamFlags params;

@@ -1,6 +1,7 @@
 // `proxseg db add|render|info|check|remove|rename|upgrade`: build, inspect and keep a model
 // database [paper 3.4] (docs/database.md).
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/mesh_units.hpp>

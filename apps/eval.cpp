@@ -1,4 +1,5 @@
 // `proxseg eval-seg`: a segmentation scored against ground truth (docs/metrics.md).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/scene_names.hpp>
 #include <proxseg/eval/seg_scores.hpp>

@@ -1,6 +1,7 @@
 // The CLI's parameter flags, made from the parameter table (core/parameters.hpp): one flag per
 // row that names one, its help with the default in effect and the paper's value, hidden
 // aliases, and `--set KEY=VALUE` for every row.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/parameters.hpp>
 
 #include <iostream>

@@ -1,6 +1,7 @@
 // `proxseg recognize`: segment -> select -> recognise every candidate [paper 3.1-3.4], or
 // recognise one already segmented cloud (--object), or every frame of a dataset (--batch,
 // batch.cpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -82,11 +83,11 @@ void print(const std::vector<proxseg::SceneObject>& objects) {
 }
 
 // Segments the frame and recognises every candidate, with a progress bar; the stage times in ms.
-std::vector<proxseg::SceneObject> recognise_scene(const proxseg::Frame& frame,
-                                                  const proxseg::SegmentParams& seg,
-                                                  const proxseg::Database& db,
-                                                  const proxseg::RecognitionParams& rec,
-                                                  double& segment_ms, double& recognize_ms) {
+std::vector<proxseg::SceneObject> segment_and_recognize(const proxseg::Frame& frame,
+                                                        const proxseg::SegmentParams& seg,
+                                                        const proxseg::Database& db,
+                                                        const proxseg::RecognitionParams& rec,
+                                                        double& segment_ms, double& recognize_ms) {
   auto t = Clock::now();
   const proxseg::SegmentResult result = proxseg::segment(frame, seg);
   segment_ms = ms_since(t);
@@ -119,7 +120,7 @@ int run_recognize(const RecognizeOptions& o) {
   const bool object = !o.object.empty();
   const proxseg::OutputSet outputs = outputs_option(o.outputs);
   check_batch_options(o);
-  if (object && (!o.input.empty() || !o.color.empty() || !o.depth.empty() || !o.batch.empty()))
+  if (object && (!o.input.empty() || !o.colour.empty() || !o.depth.empty() || !o.batch.empty()))
     throw CLI::ValidationError("--object takes one segmented cloud instead of a scene");
   if (!object && o.output.empty()) throw CLI::ValidationError("a scene needs -o PREFIX");
   if (!object && o.batch.empty())
@@ -170,12 +171,12 @@ int run_recognize(const RecognizeOptions& o) {
           << frame.height << ")\n";
     print_colourless_note(o.input, frame, seg);
     proxseg::check_memory(frame, seg, input_name(o));
-    objects = recognise_scene(frame, seg, db, rec, segment_ms, recognize_ms);
+    objects = segment_and_recognize(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 
   warn_damaged(objects);
   nlohmann::json report =
-      proxseg::recognition_report(object ? o.object : (o.input.empty() ? o.color : o.input), o.db,
+      proxseg::recognition_report(object ? o.object : (o.input.empty() ? o.colour : o.input), o.db,
                                   db, rec, object ? nullptr : &seg, objects);
   report["times_ms"] = {{"load_database", load_ms},
                         {"segment", segment_ms},

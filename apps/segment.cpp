@@ -1,4 +1,5 @@
 // `proxseg segment`: one scene, or a dataset with --batch (batch.cpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>

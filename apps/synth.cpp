@@ -1,4 +1,5 @@
 // `proxseg synth`: the built-in synthetic scene, or generated cluttered tabletops (--clutter).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/io/cloud_io.hpp>

@@ -1,5 +1,5 @@
-// libFuzzer harness: the model readers: PLY point cloud and mesh (Open3D behind our header
-// check) and the YCB-Video points.xyz text format.
+// libFuzzer harness: the model readers: PLY point cloud and mesh (our PLY reader, ply_io.hpp)
+// and the YCB-Video points.xyz text format.
 #include <proxseg/io/cloud_io.hpp>
 
 #include <cmath>

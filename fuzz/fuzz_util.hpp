@@ -2,6 +2,7 @@
 // splitting one fuzz input into several files, and the rule that a reader may only answer
 // with a result or an InputError.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 #include <unistd.h>

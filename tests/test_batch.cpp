@@ -1,5 +1,6 @@
 // Batch work over datasets (docs/batch.md): frame discovery, shards, the resumable summary, and
 // `segment --batch` / `recognize --batch` against single runs, on real frames.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -171,7 +172,7 @@ TEST(Batch, DiscoversCloudsAndRgbdPairsInNestedFolders) {
   EXPECT_EQ(ids(frames),
             (std::vector<std::string>{"a/b/learn1", "a/learn0", "seq1/000001", "seq1/000002"}));
   EXPECT_EQ(fs::path(frames[1].cloud), dir / "a" / "learn0.pcd");
-  EXPECT_EQ(fs::path(frames[2].color), dir / "seq1" / "000001-color.png");
+  EXPECT_EQ(fs::path(frames[2].colour), dir / "seq1" / "000001-color.png");
   EXPECT_EQ(fs::path(frames[2].depth), dir / "seq1" / "000001-depth.png");
   EXPECT_EQ(fs::path(frames[2].camera), dir / "seq1" / "000001-meta.json");
   EXPECT_TRUE(frames[3].camera.empty());
@@ -192,7 +193,7 @@ TEST(Batch, DiscoversCloudsAndRgbdPairsInNestedFolders) {
 
   // Streams in folders: {id} in a file name below a folder per stream.
   proxseg::RgbdNaming bop;
-  bop.color = "rgb/{id}.png";
+  bop.colour = "rgb/{id}.png";
   bop.depth = "depth/{id}.png";
   bop.meta = "";
   bop.intrinsics = (dir / "bop" / "camera.json").string();
@@ -238,7 +239,7 @@ TEST(Batch, DiscoversCloudsAndRgbdPairsInNestedFolders) {
         << e.what();
   }
   proxseg::RgbdNaming no_id;
-  no_id.color = "rgb.png";  // a pattern without {id}
+  no_id.colour = "rgb.png";  // a pattern without {id}
   EXPECT_THROW(proxseg::discover_frames({dir.string()}, no_id), proxseg::InputError);
 }
 

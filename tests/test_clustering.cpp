@@ -1,3 +1,5 @@
+// The initial clustering [paper Alg. 1]: the chi-square test, the centroids it finds, the visits
+// of every voxel, and k-means after it.
 #include <proxseg/core/clustering.hpp>
 
 #include <gtest/gtest.h>

@@ -3,6 +3,7 @@
 // physical invariants of the layout (resting on the support, no interpenetration, touching gaps,
 // leaning tilts) and the variety over the 30 first seeds.
 #include <gtest/gtest.h>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>

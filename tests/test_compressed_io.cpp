@@ -14,13 +14,14 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "../src/io/lzf.hpp"
+#include "io/formats/lzf.hpp"
 
 namespace fs = std::filesystem;
 using proxseg::Frame;

@@ -1,5 +1,6 @@
 // Evaluation on labelled scenes: schemes, categories, summaries, and the regression guard of the
 // default segmentation on real mOSD scenes.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/cross_validation.hpp>
 #include <proxseg/eval/scene_names.hpp>

@@ -1,3 +1,5 @@
+// The per-voxel features [paper 3.1]: colour histograms, Gabor texture (against a reference
+// implementation), the shape block and the point normals it uses.
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/core/voxels.hpp>

@@ -12,6 +12,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/output.hpp>
 #include <set>
@@ -538,14 +539,14 @@ proxseg::Intrinsics small_k() {
 }  // namespace
 
 TEST(IoRgbd, SyntheticPngsGiveBackProjectedPoints) {
-  cv::Mat color(2, 3, CV_8UC3, cv::Scalar(0, 0, 0));
-  color.at<cv::Vec3b>(0, 0) = {0, 0, 255};  // BGR red
-  color.at<cv::Vec3b>(1, 2) = {255, 128, 0};
+  cv::Mat colour(2, 3, CV_8UC3, cv::Scalar(0, 0, 0));
+  colour.at<cv::Vec3b>(0, 0) = {0, 0, 255};  // BGR red
+  colour.at<cv::Vec3b>(1, 2) = {255, 128, 0};
   cv::Mat depth(2, 3, CV_16UC1, cv::Scalar(0));
   depth.at<std::uint16_t>(0, 0) = 1000;  // 1 m
   depth.at<std::uint16_t>(1, 2) = 2500;
   const std::string cpath = tmp_path("c.png"), dpath = tmp_path("d.png");
-  ASSERT_TRUE(cv::imwrite(cpath, color));
+  ASSERT_TRUE(cv::imwrite(cpath, colour));
   ASSERT_TRUE(cv::imwrite(dpath, depth));
   const Frame f = proxseg::read_rgbd(cpath, dpath, small_k());
   EXPECT_EQ(f.width, 3);
@@ -588,7 +589,7 @@ TEST(IoRgbd, Errors) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// Image decoding (libpng / libjpeg, src/io/image_io.cpp) against OpenCV's
+// Image decoding (libpng / libjpeg, src/io/formats/image_io.cpp) against OpenCV's
 // cv::imread(IMREAD_UNCHANGED)
 
 namespace {

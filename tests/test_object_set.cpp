@@ -3,6 +3,7 @@
 // with the defaults (floors set from what the object folds reach, docs/results.md).
 #include <gtest/gtest.h>
 #include <proxseg/core/colour.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/object_set.hpp>
@@ -168,7 +169,7 @@ TEST(ObjectSet, LatheShapesAreClosedAndCupsOpen) {
 // The regression guard: segment() + recognize_scene() with the defaults on the first fold of
 // each half, two scenes each (dev seeds), scored like scene_bench --set objects. The floors are
 // below what these scenes reach (docs/results.md, "Recognition on the object folds").
-TEST(ObjectSet, DefaultsRecogniseTheFirstFoldOfEachHalf) {
+TEST(ObjectSet, DefaultsRecognizeTheFirstFoldOfEachHalf) {
   const std::vector<PoolObject>& objects = pool();
   const std::vector<ObjectFold> folds = object_folds(objects, ObjectFoldParams{});
   SceneCounts total;

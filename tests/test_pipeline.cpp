@@ -1,4 +1,5 @@
 // End-to-end runs of segment() on real data (mOSD, YCB-Video, PCL) and on the synthetic scene.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/metrics.hpp>

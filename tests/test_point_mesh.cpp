@@ -1,6 +1,7 @@
 // Meshes from bare point samples (point_mesh.hpp): shapes whose answer is known, determinism,
 // input checks, and the quality of the meshes of the 21 YCB-Video models (points.xyz only),
 // with a per-model table on stdout.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/point_mesh.hpp>
 #include <proxseg/io/cloud_io.hpp>

@@ -1,4 +1,5 @@
 // Recognition evaluation [paper 4]: the test set, the occluded test set and the measures.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 
 #include <gtest/gtest.h>

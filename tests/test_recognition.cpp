@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/occlusion.hpp>

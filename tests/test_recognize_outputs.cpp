@@ -1,6 +1,7 @@
 // What `proxseg recognize` leaves for a user: PREFIX.pcd's per-point `object` ids against the
 // YCB-Video label images and against PREFIX.json's ids, the picture's legend, two copies of one
 // object with two ids, and no partial set of outputs after a failure.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/cloud_io.hpp>
 

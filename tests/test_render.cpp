@@ -1,5 +1,9 @@
-#include <gtest/gtest.h>
+// The virtual depth camera (render.hpp): depths, areas, labels and colours of rendered meshes
+// against their analytic values, the z-buffer, and the synthetic tabletop.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
+
+#include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <chrono>

@@ -1,6 +1,7 @@
 // The 3D page (io/view_page.hpp) and the batch page (io/batch_page.hpp) as data: the points the
 // page embeds decode to the frame's points and ids, the legends are the report's, and bad input
 // is an InputError. python/tests/test_view.py loads the pages in a browser.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/batch_page.hpp>

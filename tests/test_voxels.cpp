@@ -1,3 +1,4 @@
+// Voxels [paper 3.1]: points into cells, the 26-neighbourhood, adjacency and the dense graph.
 #include <proxseg/core/voxels.hpp>
 
 #include <gtest/gtest.h>

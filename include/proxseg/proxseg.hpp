@@ -4,6 +4,7 @@
 #pragma once
 #include <proxseg/core/clustering.hpp>
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/mesh.hpp>
@@ -28,8 +29,8 @@
 #include <proxseg/eval/scene_eval.hpp>
 #include <proxseg/eval/scene_names.hpp>
 #include <proxseg/eval/seg_scores.hpp>
-#include <proxseg/eval/sensor_figures.hpp>
 #include <proxseg/eval/seg_summary.hpp>
+#include <proxseg/eval/sensor_figures.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 #include <proxseg/io/batch.hpp>
 #include <proxseg/io/batch_page.hpp>

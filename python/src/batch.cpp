@@ -19,7 +19,7 @@ py::dict to_dict(const FrameSource& f) {
   py::dict d;
   d["id"] = f.id;
   d["cloud"] = f.cloud;
-  d["color"] = f.color;
+  d["color"] = f.colour;
   d["depth"] = f.depth;
   d["camera"] = f.camera;
   if (!f.unreadable.empty()) {
@@ -40,7 +40,7 @@ FrameSource from_dict(const py::handle& h) {
   };
   get("id", f.id);
   get("cloud", f.cloud);
-  get("color", f.color);
+  get("color", f.colour);
   get("depth", f.depth);
   get("camera", f.camera);
   get("unreadable", f.unreadable);
@@ -66,12 +66,12 @@ py::list to_list(const std::vector<FrameSource>& frames) {
 void bind_batch(py::module_& m) {
   m.def(
       "_discover_frames",
-      [](const std::vector<std::string>& sources, const std::string& color,
+      [](const std::vector<std::string>& sources, const std::string& colour,
          const std::string& depth, const std::string& meta, const std::string& intrinsics) {
         std::vector<FrameSource> frames;
         {
           py::gil_scoped_release release;
-          frames = discover_frames(sources, RgbdNaming{color, depth, meta, intrinsics});
+          frames = discover_frames(sources, RgbdNaming{colour, depth, meta, intrinsics});
         }
         return to_list(frames);
       },
@@ -79,12 +79,12 @@ void bind_batch(py::module_& m) {
       py::arg("intrinsics"));
   m.def(
       "_start_batch",
-      [](const std::vector<std::string>& sources, const std::string& color,
+      [](const std::vector<std::string>& sources, const std::string& colour,
          const std::string& depth, const std::string& meta, const std::string& intrinsics,
          const std::string& out_dir, const py::handle& header, bool resume) {
         BatchPlan plan;
         plan.sources = sources;
-        plan.naming = RgbdNaming{color, depth, meta, intrinsics};
+        plan.naming = RgbdNaming{colour, depth, meta, intrinsics};
         plan.resume = resume;
         plan.runner = "dask";
         const nlohmann::json h = python_to_json(header);

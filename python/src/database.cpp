@@ -1,4 +1,5 @@
 // proxseg.Database: the model database [paper 3.4] on disk, opened once and shared by threads.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/mesh_units.hpp>
@@ -136,7 +137,7 @@ void bind_database(py::module_& m) {
             std::vector<ViewInfo> added;
             py::gil_scoped_release release;
             // The name is checked by add_view() too; here before the rendering's work.
-            if (object.empty() || object == "unknown")
+            if (object.empty() || object == kUnknown)
               throw InputError("object name: expected a non-empty name other than \"unknown\"");
             if (views < 1 || views > 1000) throw InputError("views: expected 1 to 1000");
             if (!(distance >= 0) || !std::isfinite(distance))

@@ -1,4 +1,5 @@
 // proxseg.Frame from numpy arrays and files; its points and colours as numpy views (no copy).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/rgbd.hpp>
 #include <proxseg/io/cloud_io.hpp>
 
@@ -128,7 +129,7 @@ std::vector<Eigen::Vector3f> depth_points(const py::array& depth, const Intrinsi
 }
 
 // color (H, W, 3) uint8 RGB or None, depth (H, W) uint16 (depth units) or float32 (units).
-Frame frame_from_rgbd(const py::object& color, const py::array& depth,
+Frame frame_from_rgbd(const py::object& colour, const py::array& depth,
                       const py::array_t<double, py::array::forcecast>& K, double depth_scale) {
   if (depth.ndim() != 2)
     throw InputError("depth: shape " + shape_str(depth) + " (expected (H, W))");
@@ -147,7 +148,7 @@ Frame frame_from_rgbd(const py::object& color, const py::array& depth,
   else
     throw InputError("depth: dtype " + dtype_str(depth) +
                      " (expected uint16 depth units or float32; 0 = no return)");
-  frame.rgb = colours_from_numpy(color, {depth.shape(0), depth.shape(1), 3});
+  frame.rgb = colours_from_numpy(colour, {depth.shape(0), depth.shape(1), 3});
   return frame;
 }
 
@@ -248,13 +249,13 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
       "label_field: the integer PCD field kept as Frame.label (e.g. 'instance').");
   m.def(
       "read_rgbd",
-      [](const std::string& color, const std::string& depth, const std::string& meta,
+      [](const std::string& colour, const std::string& depth, const std::string& meta,
          const std::string& intrinsics) {
         py::gil_scoped_release release;
         if (meta.empty() == intrinsics.empty())
           throw InputError("read_rgbd: give exactly one of meta= or intrinsics=");
         const Intrinsics k = meta.empty() ? read_intrinsics(intrinsics) : read_ycb_meta(meta);
-        return read_rgbd(color, depth, k);
+        return read_rgbd(colour, depth, k);
       },
       py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("meta") = "",
       py::arg("intrinsics") = "");

@@ -1,6 +1,7 @@
 // proxseg._proxseg: the extension under the Python package proxseg (python/proxseg/). The
 // package's Python layer turns parameters, Open3D clouds and results into Python's habits; this
 // layer converts numpy arrays, releases the GIL around the computation and maps errors.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/version.hpp>
 #include <proxseg/io/memory.hpp>
 #include <proxseg/io/output.hpp>

@@ -1,5 +1,6 @@
 // proxseg.recognize() and recognize_object() [paper 3.4]: objects with names, scores and poses,
 // the per-point object ids, and for a scene the segmentation it started from.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/output.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/io/view_page.hpp>

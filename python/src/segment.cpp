@@ -1,5 +1,6 @@
 // proxseg.segment(): parameters as dicts laid out like the JSON config, results as numpy arrays
 // and the CLI's report.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/parameters.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/output.hpp>

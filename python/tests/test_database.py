@@ -129,11 +129,11 @@ def test_an_add_does_not_wait_behind_recognitions(tmp_path):
     done = threading.Event()
     recognitions = []
 
-    def recognise(k):
+    def recognize(k):
         while not done.is_set():
             recognitions.append(proxseg.recognize_object(views[k], db).objects[0].name)
 
-    threads = [threading.Thread(target=recognise, args=(k,)) for k in range(3)]
+    threads = [threading.Thread(target=recognize, args=(k,)) for k in range(3)]
     for t in threads:
         t.start()
     time.sleep(0.5)

@@ -16,70 +16,59 @@
 #include <utility>
 #include <vector>
 
+#include "util/field_count.hpp"
+
+// A parameter struct's Boost.Fusion adaptation, checked against the struct at compile time: a
+// member added to the struct but not listed here stops the build (not only a test).
+#define PROXSEG_ADAPT_PARAMETERS(S, ...)                                                       \
+  BOOST_FUSION_ADAPT_STRUCT(S, __VA_ARGS__)                                                    \
+  static_assert(proxseg::detail::field_count<S>() == boost::fusion::result_of::size<S>::value, \
+                #S "'s adaptation (parameter_members.hpp) must list every member of " #S);
+
 // Every member of each struct, sections included; the structs' headers document them.
-BOOST_FUSION_ADAPT_STRUCT(proxseg::SegmentParams, voxels, features, clustering, kmeans, mrf,
-                          selection, paper_labels, threads, max_memory_mib)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::VoxelParams, voxel_size, min_points_per_voxel)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::FeatureParams, use_colour, use_texture, use_shape, colour_weight,
-                          texture_weight, shape_weight, gabor_wavelength, gabor_sigma,
-                          texture_clip_quantile, gabor_stride, normal_step, normal_knn,
-                          normal_edge_ratio)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::ClusteringParams, alpha, pca_dims, pca_solver, prior_weight,
-                          balance_blocks)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::KMeansParams, max_iterations, tolerance)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::MrfParams, enabled, unary_weight, pairwise_weight, method,
-                          max_cycles)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::SelectionParams, density_radius, weak_density_ratio,
-                          cluster_tolerance, min_candidate_points, absorb_small, split_concave,
-                          merge_max_concave_share, cut_support_plane, support_normal_tolerance_deg,
-                          background_min_area, background_plane_distance, background_inlier_ratio,
-                          geometry, voxels, image, occlusion, containers)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::VoxelSelectionParams, concavity_tolerance_deg, merge_convex,
-                          merge_min_boundary)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::ImageSelectionParams, normal_step, edge_aware_normals,
-                          depth_step_ratio, concavity_step, crease_tolerance_deg,
-                          sensor_noise_at_1m, plane_band_sigmas, plane_band_min, plane_flat_sigmas,
-                          merge_links, merge_window, merge_min_links, bridge_window,
-                          bridge_tolerance, merge_min_agreement, island_missing_share)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::OcclusionParams, enabled, window, min_rays, min_share,
-                          normal_tolerance_deg, surface_tolerance, min_colour, min_face_rays,
-                          min_face_colour)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::ContainerParams, enabled, min_radius, max_radius, circle_rms,
-                          rim_tolerance, min_depth)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::RecognitionParams, registration, score, min_score, min_margin,
-                          confident_score, explain_fitness, support_gap, shortlist, shortlist_parts,
-                          trial_shortlist, early_exit, early_reject, lone_score, lone_ratio,
-                          lookalike_share, lookalike_agreement, lookalike_shape, split_fitness,
-                          merge_distance, merge_unnamed, min_part_points, free_space_tolerance,
-                          hidden_depth, seed, threads)
-BOOST_FUSION_ADAPT_STRUCT(proxseg::RegistrationParams, multi_radius, ransac_iterations,
-                          ransac_distance, edge_similarity, normal_tolerance_deg, ransac_candidates,
-                          mutual_filter, max_points, icp_iterations, icp_starts, icp_distance,
-                          point_to_plane, fitness_distance, score_distance, score_distance_slope,
-                          coverage_outside_weight, colour_compare, colour_alignment,
-                          brightness_sigma)
+PROXSEG_ADAPT_PARAMETERS(proxseg::SegmentParams, voxels, features, clustering, kmeans, mrf,
+                         selection, paper_labels, threads, max_memory_mib)
+PROXSEG_ADAPT_PARAMETERS(proxseg::VoxelParams, voxel_size, min_points_per_voxel)
+PROXSEG_ADAPT_PARAMETERS(proxseg::FeatureParams, use_colour, use_texture, use_shape, colour_weight,
+                         texture_weight, shape_weight, gabor_wavelength, gabor_sigma,
+                         texture_clip_quantile, gabor_stride, normal_step, normal_knn,
+                         normal_edge_ratio)
+PROXSEG_ADAPT_PARAMETERS(proxseg::ClusteringParams, alpha, pca_dims, pca_solver, prior_weight,
+                         balance_blocks)
+PROXSEG_ADAPT_PARAMETERS(proxseg::KMeansParams, max_iterations, tolerance)
+PROXSEG_ADAPT_PARAMETERS(proxseg::MrfParams, enabled, unary_weight, pairwise_weight, method,
+                         max_cycles)
+PROXSEG_ADAPT_PARAMETERS(proxseg::SelectionParams, density_radius, weak_density_ratio,
+                         cluster_tolerance, min_candidate_points, absorb_small, split_concave,
+                         merge_max_concave_share, cut_support_plane, support_normal_tolerance_deg,
+                         background_min_area, background_plane_distance, background_inlier_ratio,
+                         geometry, voxels, image, occlusion, containers)
+PROXSEG_ADAPT_PARAMETERS(proxseg::VoxelSelectionParams, concavity_tolerance_deg, merge_convex,
+                         merge_min_boundary)
+PROXSEG_ADAPT_PARAMETERS(proxseg::ImageSelectionParams, normal_step, edge_aware_normals,
+                         depth_step_ratio, concavity_step, crease_tolerance_deg, sensor_noise_at_1m,
+                         plane_band_sigmas, plane_band_min, plane_flat_sigmas, merge_links,
+                         merge_window, merge_min_links, bridge_window, bridge_tolerance,
+                         merge_min_agreement, island_missing_share)
+PROXSEG_ADAPT_PARAMETERS(proxseg::OcclusionParams, enabled, window, min_rays, min_share,
+                         normal_tolerance_deg, surface_tolerance, min_colour, min_face_rays,
+                         min_face_colour)
+PROXSEG_ADAPT_PARAMETERS(proxseg::ContainerParams, enabled, min_radius, max_radius, circle_rms,
+                         rim_tolerance, min_depth)
+PROXSEG_ADAPT_PARAMETERS(proxseg::RecognitionParams, registration, score, min_score, min_margin,
+                         confident_score, explain_fitness, support_gap, shortlist, shortlist_parts,
+                         trial_shortlist, early_exit, early_reject, lone_score, lone_ratio,
+                         lookalike_share, lookalike_agreement, lookalike_shape, split_fitness,
+                         merge_distance, merge_unnamed, min_part_points, free_space_tolerance,
+                         hidden_depth, seed, threads)
+PROXSEG_ADAPT_PARAMETERS(proxseg::RegistrationParams, multi_radius, ransac_iterations,
+                         ransac_distance, edge_similarity, normal_tolerance_deg, ransac_candidates,
+                         mutual_filter, max_points, icp_iterations, icp_starts, icp_distance,
+                         point_to_plane, fitness_distance, score_distance, score_distance_slope,
+                         coverage_outside_weight, colour_compare, colour_alignment,
+                         brightness_sigma)
 
 namespace proxseg::detail {
-
-// The names of each enum's values, in the enum's order (the JSON and CLI spelling).
-inline std::vector<std::string> value_names(MrfMethod) {
-  return {"swap", "expansion"};
-}
-inline std::vector<std::string> value_names(PcaSolver) {
-  return {"dense", "lanczos"};
-}
-inline std::vector<std::string> value_names(SelectionParams::Geometry) {
-  return {"voxels", "image"};
-}
-inline std::vector<std::string> value_names(MultiRadius) {
-  return {"concatenate", "best_of"};
-}
-inline std::vector<std::string> value_names(ColourCompare) {
-  return {"points", "histogram", "best"};
-}
-inline std::vector<std::string> value_names(Score) {
-  return {"fitness", "symmetric", "colour"};
-}
 
 template <class S>
 constexpr bool kIsSection = boost::fusion::traits::is_sequence<S>::value;

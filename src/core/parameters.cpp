@@ -2,6 +2,7 @@
 // they name (parameter_members.hpp): the rows with their types, defaults and the paper's values,
 // reading and setting a parameter by key, parsing and formatting values, ranges and the nearest
 // name for a mistyped key.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/parameters.hpp>
 
 #include "parameter_members.hpp"
@@ -19,8 +20,6 @@
 
 namespace proxseg {
 namespace {
-
-using detail::value_names;
 
 template <class T>
 constexpr bool kIsEnum = std::is_enum_v<T>;

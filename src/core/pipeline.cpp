@@ -1,4 +1,5 @@
 // segment(): the paper's sections 3.1-3.3, top to bottom.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 
 #include "image_selection_detail.hpp"

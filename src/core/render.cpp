@@ -1,5 +1,6 @@
 // Virtual depth camera: a z-buffer rasteriser of vertex-coloured triangle meshes, the mesh
 // builders and the built-in synthetic tabletop scene.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include "util/angles.hpp"
 

@@ -1,4 +1,5 @@
 // Pinhole back-projection of depth images (rgbd.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/rgbd.hpp>
 
 #include <cmath>

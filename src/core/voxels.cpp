@@ -1,5 +1,6 @@
 // Voxels [paper 3.1]. The paper indexes cells with an octree to reach neighbours quickly; a sorted
 // array of integer keys with binary search gives the same neighbourhoods, deterministically.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/voxels.hpp>
 
 #include <algorithm>

@@ -1,5 +1,6 @@
 // Cross-validated choice among variants: chosen outside each fold, scored on it
 // (cross_validation.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/eval/cross_validation.hpp>
 

@@ -1,6 +1,7 @@
 // The LINEMOD meshes on disk: listed per call, read once per process (linemod_models.hpp).
 #include "linemod_models.hpp"
 
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 
 #include <algorithm>

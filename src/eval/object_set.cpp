@@ -1,6 +1,7 @@
 // The object-varied development set for recognition (object_set.hpp): the pool, the folds and
 // the database capture.
 #include <proxseg/core/colour.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/eval/object_set.hpp>
 #include <proxseg/eval/point_mesh.hpp>
@@ -14,7 +15,7 @@
 #include <filesystem>
 #include <map>
 
-#include "clutter_objects.hpp"
+#include "eval/clutter/objects.hpp"
 #include "linemod_models.hpp"
 #include "util/angles.hpp"
 #include "util/splitmix.hpp"
@@ -188,26 +189,21 @@ void add_generated(std::vector<PoolObject>& pool) {
   // Boxes: one shape in two colours; one colour in two shapes; a black one; a flat one.
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const Vec3 tall(0.07, 0.07, 0.15), slim(0.09, 0.05, 0.15), flat(0.12, 0.08, 0.035);
-  add("box-blue", ClutterKind::box,
-      make_box(I, tall, box_paint({40, 70, 170}, {235, 235, 230}, tall), clutter::kObjectCell),
-      true, "box-tall", 0);
-  add("box-green", ClutterKind::box,
-      make_box(I, tall, box_paint({40, 140, 70}, {235, 235, 230}, tall), clutter::kObjectCell),
-      true, "box-tall", 0);
-  add("box-orange", ClutterKind::box,
-      make_box(I, slim, box_paint({230, 120, 30}, {60, 40, 30}, slim), clutter::kObjectCell), true,
-      "orange-things", 1);
+  const auto box = [&](const std::string& name, const Vec3& size, const Col& face, const Col& print,
+                       const std::string& group, int half) {
+    add(name, ClutterKind::box,
+        make_box(I, size, box_paint(face, print, size), clutter::kObjectCell), true, group, half);
+  };
+  box("box-blue", tall, {40, 70, 170}, {235, 235, 230}, "box-tall", 0);
+  box("box-green", tall, {40, 140, 70}, {235, 235, 230}, "box-tall", 0);
+  box("box-orange", slim, {230, 120, 30}, {60, 40, 30}, "orange-things", 1);
   add("can-orange", ClutterKind::cylinder,
       make_cylinder(I, 0.033, 0.12, can_paint({230, 120, 30}, {60, 40, 30}, 0.12),
                     clutter::kObjectCell),
       true, "orange-things", 1);
   const Vec3 long_box(0.16, 0.045, 0.06);
-  add("box-black", ClutterKind::box,
-      make_box(I, long_box, box_paint({35, 35, 38}, {90, 90, 95}, long_box), clutter::kObjectCell),
-      true, "", 1);
-  add("box-flat", ClutterKind::box,
-      make_box(I, flat, box_paint({200, 200, 60}, {150, 40, 120}, flat), clutter::kObjectCell),
-      true, "", 0);
+  box("box-black", long_box, {35, 35, 38}, {90, 90, 95}, "", 1);
+  box("box-flat", flat, {200, 200, 60}, {150, 40, 120}, "", 0);
 }
 
 // ---- LINEMOD

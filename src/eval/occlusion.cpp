@@ -1,5 +1,6 @@
 // The paper's occlusion generator [4]: a ball of random radius around a random point of the view
 // removed (occlusion.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/occlusion.hpp>
 
 #include <proxseg/core/frame.hpp>

@@ -1,5 +1,6 @@
 // Meshes from bare surface samples: restricted-Voronoi surfels, a flood fill of the outside on a
 // voxel grid, surface nets (point_mesh.hpp says why this and not Poisson or ball pivoting).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/point_mesh.hpp>
 #include "util/angles.hpp"
 #include "util/nearest_points.hpp"

@@ -1,5 +1,6 @@
 // Real YCB-Video scenes scored per labelled object: segments, names, poses, leave-one-out
 // (real_eval.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/real_eval.hpp>
 
 #include <proxseg/eval/scene_eval.hpp>
@@ -164,7 +165,7 @@ RealFrameScore score_recognition(const YcbFrame& frame, const std::vector<SceneO
     out.objects.push_back(s);
   }
   for (std::size_t k = 0; k < objects.size(); ++k)
-    if (!matched[k] && objects[k].recognition.name != "unknown")
+    if (!matched[k] && objects[k].recognition.name != kUnknown)
       out.other_names.push_back(describe_answer(objects[k]));
   return out;
 }
@@ -179,7 +180,7 @@ LeaveOneOutScore score_leave_one_out(const YcbFrame& frame, const std::string& m
   if (truth == frame.objects.end())
     throw InputError("leave-one-out: " + missing + " is not an object of the frame");
   for (const SceneObject& s : objects)
-    if (s.recognition.name != "unknown" && share_in(s.points, truth->points) > 0.5)
+    if (s.recognition.name != kUnknown && share_in(s.points, truth->points) > 0.5)
       out.missing_named = s.recognition.name;
   const RealFrameScore scored = score_recognition(frame, objects, models, params);
   for (const RealObjectScore& o : scored.objects) {

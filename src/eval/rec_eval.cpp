@@ -1,4 +1,5 @@
 // Recognition evaluation [paper 4]: test set, occluded test set and measures (rec_eval.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/occlusion.hpp>
 #include <proxseg/eval/pose_error.hpp>
 #include <proxseg/eval/rec_eval.hpp>

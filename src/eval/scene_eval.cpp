@@ -6,7 +6,7 @@
 #include <proxseg/eval/scene_eval.hpp>
 
 #include "assignment.hpp"
-#include "clutter_objects.hpp"
+#include "eval/clutter/objects.hpp"
 #include "linemod_models.hpp"
 
 #include <Eigen/Geometry>
@@ -64,7 +64,7 @@ std::vector<Eigen::Vector3d> evenly(const std::vector<Eigen::Vector3d>& pts, int
 }
 
 bool is_named(const std::string& name) {
-  return !name.empty() && name != "unknown";
+  return !name.empty() && name != kUnknown;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The names of evaluation scenes: category, number and fold from a file name, and a folder's
 // scene files in natural order (scene_names.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/scene_names.hpp>
 
 #include <proxseg/core/frame.hpp>

@@ -1,5 +1,6 @@
 // Segmentation scores of a labelled scene: the mOSD truth in both schemes and a prediction's
 // scores against it (seg_scores.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/seg_scores.hpp>
 
 #include <string>

@@ -1,5 +1,6 @@
 // YCB-Video frames: colour, depth, labels and the objects' poses from meta.json
 // (ycb_frames.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/ycb_frames.hpp>
 
 #include <proxseg/io/cloud_io.hpp>

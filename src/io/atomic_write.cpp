@@ -11,7 +11,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "reader_errors.hpp"
+#include "io/reader_errors.hpp"
 
 namespace fs = std::filesystem;
 

@@ -14,9 +14,9 @@
 #include <limits>
 #include <sstream>
 
-#include "input_file.hpp"
-#include "ply_io.hpp"
-#include "reader_errors.hpp"
+#include "io/formats/ply_io.hpp"
+#include "io/input_file.hpp"
+#include "io/reader_errors.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,6 +1,6 @@
 // Input files as the readers take them (input_file.hpp): regular files only, read whole by one
 // descriptor.
-#include "input_file.hpp"
+#include "io/input_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <utility>
 

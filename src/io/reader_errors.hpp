@@ -3,6 +3,7 @@
 // quoted from the file made safe for a one-line message (docs/robustness.md). Private to the
 // library.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 #include <cstddef>

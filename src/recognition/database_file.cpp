@@ -3,6 +3,7 @@
 // over weeks needs: one writer at a time across processes, readers that never wait for it, a
 // commit that a crash or a full disk cannot tear. This file: its place in its directory, opening
 // it, and its settings (database_file.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
@@ -112,7 +113,7 @@ bool check_own_files(const std::string& dir) {
 }
 
 void check_name(const std::string& object) {
-  if (object.empty() || object == "unknown")
+  if (object.empty() || object == kUnknown)
     throw InputError("object name: expected a non-empty name other than \"unknown\"");
   for (unsigned char c : object)
     if (c < 32) throw InputError("object name: control characters are not allowed");

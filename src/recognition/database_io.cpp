@@ -2,6 +2,7 @@
 // adding views to it (add_view(), write_database()); any number of processes read it while one
 // at a time adds to it. The file is database_file.cpp, a view's records database_records.cpp,
 // and the maintenance commands database_maintenance.cpp.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/database_io.hpp>
 #include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/registration.hpp>

@@ -1,5 +1,6 @@
 // The model database's maintenance (docs/database.md): removing and renaming objects, checking
 // every record, upgrading a version-1 folder database, and the summary `proxseg db info` shows.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/params.hpp>
 #include <proxseg/recognition/database_io.hpp>
 

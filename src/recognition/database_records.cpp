@@ -1,6 +1,7 @@
 // A view's records in the model database file (docs/database.md, "Records"): its row (object,
 // name, source, sizes, summary) and its parts and body records, each checked when read; a stored
 // view reads its parts and body on first use (database_records.hpp).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/model_view.hpp>
 
 #include <cstdio>

@@ -1,6 +1,7 @@
 // Descriptors [paper 3.4]: the voxel filter, normals and multi-radius FPFH of a cloud (a model
 // view or a candidate), the described cloud restored from the database, and its subsample for
 // registration.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/recognition/registration.hpp>
 

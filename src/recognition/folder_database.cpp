@@ -2,6 +2,7 @@
 // PCD per view and one feature cache per view. Read only, by `proxseg db upgrade`.
 #include "folder_database.hpp"
 
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/model_view.hpp>
 #include <proxseg/recognition/registration.hpp>

@@ -1,6 +1,7 @@
 // Recognition [paper 3.4, Algorithm 3]: a described candidate aligned to the shortlisted views
 // of the database in batches, named after the best view's object when its score is clear of the
 // runner-up's (or the look-alike vote decides), "unknown" otherwise.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include "util/first_error.hpp"
@@ -307,7 +308,7 @@ Recognition recognize(const Cloud& candidate, const Database& db,
   r.name = r.best.view >= 0 && named &&
                    explains_candidate(db.views[r.best.view], r.alignments[r.best.view], params)
                ? r.best.object
-               : "unknown";
+               : kUnknown;
   return r;
 }
 

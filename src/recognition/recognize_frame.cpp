@@ -21,7 +21,7 @@ nlohmann::json recognize_frame(const FrameSource& source, const RecognizeJob& jo
     const auto objects = recognize_scene(frame, result.selection, db, job.recognition);
     const double recognize_ms = step.lap();
     nlohmann::json report =
-        recognition_report(source.cloud.empty() ? source.color : source.cloud, job.db_dir, db,
+        recognition_report(source.cloud.empty() ? source.colour : source.cloud, job.db_dir, db,
                            job.recognition, &job.segmentation, objects);
     report["times_ms"] = {{"load_database", job.load_ms},
                           {"segment", segment_ms},

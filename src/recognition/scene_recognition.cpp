@@ -2,6 +2,7 @@
 // its own, then the split and merge passes that correct the selection with the models (pieces
 // a model explains only partly are split, near pieces that one model explains better together
 // are merged); and one object given as a cloud of its own.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include "util/first_error.hpp"
@@ -94,7 +95,7 @@ Cloud joined(const Cloud& a, const Cloud& b) {
 }
 
 bool named(const Piece& p) {
-  return p.object.recognition.name != "unknown";
+  return p.object.recognition.name != kUnknown;
 }
 double score(const Piece& p) {
   return p.object.recognition.best.score;
@@ -104,7 +105,7 @@ double score(const Piece& p) {
 // merge trial's joined parts) and aligns it to the database views, of `objects` only when
 // given (then the trial shortlist). Pieces too small for a description (under 10 voxels) stay
 // unrecognised: false, and `out` is not made.
-struct PieceRecogniser {
+struct PieceRecognizer {
   const Frame& frame;
   const Database& db;
   const RecognitionParams& params;
@@ -135,7 +136,7 @@ struct PieceRecogniser {
     out.box.setEmpty();
     for (const auto& q : out.cloud.points) out.box.extend(q);
     if (progress) {
-#pragma omp critical(proxseg_recognise_progress)
+#pragma omp critical(proxseg_recognize_progress)
       progress(out.object);
     }
     return true;
@@ -146,8 +147,8 @@ struct PieceRecogniser {
 // independent: one task each, largest first, which keeps the cores busier than the views of one
 // candidate in batches; the views of a candidate are tasks too (BatchAligner), so that a thread
 // done with the candidates takes over views of the last ones instead of waiting.
-std::vector<Piece> recognise_candidates(const Selection& selection,
-                                        const PieceRecogniser& recognise) {
+std::vector<Piece> recognize_candidates(const Selection& selection,
+                                        const PieceRecognizer& recognize_piece) {
   std::vector<const Candidate*> candidates;
   for (const Candidate& c : selection.components)
     if (!c.background) candidates.push_back(&c);
@@ -159,7 +160,7 @@ std::vector<Piece> recognise_candidates(const Selection& selection,
   std::vector<Piece> first(candidates.size());
   std::vector<char> made(candidates.size(), 0);
   const int threads =
-      recognise.params.threads > 0 ? recognise.params.threads : omp_get_max_threads();
+      recognize_piece.params.threads > 0 ? recognize_piece.params.threads : omp_get_max_threads();
   detail::FirstError failure;
 #pragma omp parallel num_threads(threads)
 #pragma omp single
@@ -169,8 +170,8 @@ std::vector<Piece> recognise_candidates(const Selection& selection,
       const Candidate& c = *candidates[k];
       try {
         if (!failure.failed())
-          made[k] = recognise(scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate),
-                              first[k]);
+          made[k] = recognize_piece(
+              scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate), first[k]);
       } catch (...) {
         failure.capture();
       }
@@ -187,8 +188,8 @@ std::vector<Piece> recognise_candidates(const Selection& selection,
 // rest is recognised on its own (and may be split again). Both parts must be named, so an
 // object is not cut into itself and its fringe of noise. The explained part is tried against
 // its model's object only: that is what it is being checked for.
-std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecogniser& recognise) {
-  const RecognitionParams& params = recognise.params;
+std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecognizer& recognize_piece) {
+  const RecognitionParams& params = recognize_piece.params;
   const std::size_t min_part = static_cast<std::size_t>(params.min_part_points);
   std::deque<Piece> queue(std::make_move_iterator(pieces.begin()),
                           std::make_move_iterator(pieces.end()));
@@ -202,16 +203,16 @@ std::vector<Piece> split_pieces(std::vector<Piece> pieces, const PieceRecogniser
     // touching objects, one of which explains the piece about as well as another model does.
     const bool fits = named(w) || (r.best.view >= 0 && r.best.score >= params.min_score);
     if (fits && r.best.fitness < params.split_fitness && w.object.points.size() >= 2 * min_part) {
-      const std::vector<char> in = explained(xyz_of(recognise.frame, w.object.points),
-                                             recognise.db.views[r.best.view].cloud(), r.best.pose,
-                                             params.registration.fitness_distance);
+      const std::vector<char> in = explained(xyz_of(recognize_piece.frame, w.object.points),
+                                             recognize_piece.db.views[r.best.view].cloud(),
+                                             r.best.pose, params.registration.fitness_distance);
       SceneObject e = scene_object({}, w.object.instances, SceneObject::Origin::kSplit), rest = e;
       for (std::size_t i = 0; i < in.size(); ++i)
         (in[i] ? e : rest).points.push_back(w.object.points[i]);
       Piece pe, pr;
       if (e.points.size() >= min_part && rest.points.size() >= min_part &&
-          recognise(std::move(e), pe, {r.best.object}) && named(pe) &&
-          recognise(std::move(rest), pr) && named(pr)) {
+          recognize_piece(std::move(e), pe, {r.best.object}) && named(pe) &&
+          recognize_piece(std::move(rest), pr) && named(pr)) {
         out.push_back(std::move(pe));
         queue.push_back(std::move(pr));
         split = true;
@@ -245,7 +246,7 @@ bool leans_to_one_object(const Piece& a, const Piece& b) {
 // merge_unnamed: the one object both lean to): it can only beat a part as one of them. Unions are
 // recognised once: a piece is known by its first point and its size (pieces are disjoint, and a
 // merged piece is larger than both of its parts).
-std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser& recognise) {
+std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecognizer& recognize_piece) {
   using Key = std::array<std::size_t, 4>;
   const auto key_of = [](const Piece& a, const Piece& b) {
     Key k{std::size_t(a.object.points[0]), a.object.points.size(), std::size_t(b.object.points[0]),
@@ -260,8 +261,9 @@ std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser
     for (std::size_t i = 0; i < pieces.size(); ++i)
       for (std::size_t j = i + 1; j < pieces.size(); ++j) {
         const Piece &a = pieces[i], &b = pieces[j];
-        const bool same_lean = recognise.params.merge_unnamed && leans_to_one_object(a, b);
-        if ((!named(a) && !named(b) && !same_lean) || !near(a, b, recognise.params.merge_distance))
+        const bool same_lean = recognize_piece.params.merge_unnamed && leans_to_one_object(a, b);
+        if ((!named(a) && !named(b) && !same_lean) ||
+            !near(a, b, recognize_piece.params.merge_distance))
           continue;
         const Key key = key_of(a, b);
         auto it = tried.find(key);
@@ -271,7 +273,7 @@ std::vector<Piece> merge_pieces(std::vector<Piece> pieces, const PieceRecogniser
             if (named(*part) || same_lean) objects.push_back(part->object.recognition.best.object);
           Cloud both = joined(a.cloud, b.cloud);
           Piece p;
-          if (!recognise(united(a, b), p, objects, &both)) continue;
+          if (!recognize_piece(united(a, b), p, objects, &both)) continue;
           it = tried.emplace(key, std::move(p)).first;
         }
         const Piece& u = it->second;
@@ -294,15 +296,15 @@ std::vector<SceneObject> recognize_scene(const Frame& frame, const Selection& se
   const SupportScene support =
       params.support_gap > 0 ? support_scene(frame, selection, support_plane(frame, selection))
                              : SupportScene{};
-  const PieceRecogniser recognise{frame,
-                                  db,
-                                  params,
-                                  progress,
-                                  depths.empty() ? nullptr : &depths,
-                                  support.empty() ? nullptr : &support};
-  std::vector<Piece> pieces = recognise_candidates(selection, recognise);
-  if (params.split_fitness > 0) pieces = split_pieces(std::move(pieces), recognise);
-  if (params.merge_distance > 0) pieces = merge_pieces(std::move(pieces), recognise);
+  const PieceRecognizer recognize_piece{frame,
+                                        db,
+                                        params,
+                                        progress,
+                                        depths.empty() ? nullptr : &depths,
+                                        support.empty() ? nullptr : &support};
+  std::vector<Piece> pieces = recognize_candidates(selection, recognize_piece);
+  if (params.split_fitness > 0) pieces = split_pieces(std::move(pieces), recognize_piece);
+  if (params.merge_distance > 0) pieces = merge_pieces(std::move(pieces), recognize_piece);
   // In frame order (of their first points), whatever order the passes left them in.
   std::sort(pieces.begin(), pieces.end(),
             [](const Piece& a, const Piece& b) { return a.object.points[0] < b.object.points[0]; });

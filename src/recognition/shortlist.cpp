@@ -1,6 +1,7 @@
 // The shortlist [extension, docs/method.md "A database that scales"]: the views that recognition
 // aligns, nearest to the candidate by signature, with the parts of a view compared only while
 // their sketches' bound lets it in [docs/database.md].
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include <algorithm>

@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <cstring>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 namespace proxseg::detail {

@@ -1,6 +1,7 @@
 // The bytes of a stored view and their checksums (view_record.hpp).
 #include "view_record.hpp"
 
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/registration.hpp>
 
 #include <cmath>

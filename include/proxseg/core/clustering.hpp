@@ -1,6 +1,7 @@
 // Initial clustering [paper Algorithm 1] and k-means [paper 3.2].
 #pragma once
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 namespace proxseg {
@@ -9,6 +10,10 @@ namespace proxseg {
 // QR); kLanczos, Krylov iterations until the axes' residuals are 1e-10 of the largest variance
 // (a tenth of the cost; the axes agree to about that precision).
 enum class PcaSolver { kDense, kLanczos };
+// The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+inline std::vector<std::string> value_names(PcaSolver) {
+  return {"dense", "lanczos"};
+}
 
 struct ClusteringParams {
   double alpha = 0.85;  // chi-square confidence of the "same centroid" test (paper: 0.85)

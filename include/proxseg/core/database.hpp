@@ -5,6 +5,7 @@
 // of thousands of views opens in milliseconds. Making a view is in recognition/model_view.hpp,
 // reading and writing the database file in recognition/database_io.hpp (docs/database.md).
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/lazy.hpp>
 #include <proxseg/core/registration_types.hpp>

@@ -1,12 +1,17 @@
 // MRF refinement of the labels [paper 3.2, eq. 1-3]: Potts model minimised by graph cuts.
 #pragma once
 #include <Eigen/Core>
+#include <string>
 #include <utility>
 #include <vector>
 
 namespace proxseg {
 
 enum class MrfMethod { kSwap, kExpansion };
+// The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+inline std::vector<std::string> value_names(MrfMethod) {
+  return {"swap", "expansion"};
+}
 
 struct MrfParams {
   bool enabled = true;
@@ -17,9 +22,8 @@ struct MrfParams {
   double pairwise_weight = 0.05;
   MrfMethod method = MrfMethod::kSwap;
   // Full sweeps over the label pairs (expansion: over the labels); fewer if a sweep lowers nothing.
-  // Two sweeps give 99.8 % of the energy decrease of running to convergence (3-5 sweeps, the
-  // last one only confirming) at 60 % of the time (docs/method.md, "MRF"); the paper preset
-  // runs to convergence.
+  // Two sweeps give nearly all of the energy decrease of running to convergence for much less
+  // time (docs/method.md, "MRF", has the figures); the paper preset runs to convergence.
   int max_cycles = 2;
 };
 

@@ -3,6 +3,7 @@
 // reports' "parameters" (io/params.hpp), validate(), the CLI's flags, `--set` and help, Python's
 // parameter objects and docs/parameters.md (`proxseg params --markdown`) are all made from it.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition_types.hpp>
 

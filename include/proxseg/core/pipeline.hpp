@@ -1,6 +1,7 @@
 // segment(): voxels -> features -> Algorithm 1 -> k-means -> MRF -> selection (paper 3.1-3.3).
 #pragma once
 #include <proxseg/core/clustering.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/mrf.hpp>
@@ -99,9 +100,8 @@ SegmentResult segment(const Frame& frame, const SegmentParams& params);
 
 // An estimate from above of the peak resident memory, in MiB, of a process that segments `frame`
 // with `params`, the process's own ~20 MiB included: a fixed part and a part per pixel (per point
-// of an unorganized cloud), larger when the paper's labels are computed. Measured on organized
-// frames from 640 x 480 to 1920 x 1440 pixels; it lies 10-30 % above what they took
-// (docs/robustness.md, "Memory").
+// of an unorganized cloud), larger when the paper's labels are computed. Fitted to organized
+// frames of several sizes, from above (docs/robustness.md, "Memory", has the figures).
 double segment_memory_mib(const Frame& frame, const SegmentParams& params);
 // InputError "NAME: needs about N MiB to segment (estimated), more than max_memory_mib M; refused
 // before starting" when params.max_memory_mib > 0 and the estimate exceeds it. segment() checks

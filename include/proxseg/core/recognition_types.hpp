@@ -3,6 +3,7 @@
 // are in the recognition library (proxseg/recognition/recognition.hpp); the reports and the
 // parameters' JSON form (io) need only these.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/registration_types.hpp>
 
 #include <Eigen/Core>
@@ -31,6 +32,10 @@ enum class Score {
                // tells apart objects of one shape in different colours. When the candidate or the
                // view has no colour, x kColourlessAgreement instead.
 };
+// The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+inline std::vector<std::string> value_names(Score) {
+  return {"fitness", "symmetric", "colour"};
+}
 
 // The colour term of a comparison without colour: about what a right answer's colour agreement
 // is (docs/method.md "Colour in recognition"), so that a view without colour neither wins over
@@ -105,8 +110,8 @@ struct RecognitionParams {
   // > 0: stop after a batch of views in which no view so far reached this rank (rank_of()):
   // nothing of the database fits (an unknown object, a piece of one), and the views further down
   // the shortlist are less like the candidate. Faster; may change the answer (a thin object
-  // whose own views come late). 0 = align the whole shortlist. 0.3 (was 0.2): the same answers on
-  // the real folds, 20 % faster there; on the object folds the same or better (0.4 lost objects).
+  // whose own views come late). 0 = align the whole shortlist (docs/method.md has the measured
+  // choice of the default).
   double early_reject = 0.3;
   // Scenes [extension, docs/method.md "Candidates that recognition splits or merges"]: the model
   // that names a candidate also tells which of its points belong to it.
@@ -150,8 +155,12 @@ struct Match {
   double free_space = 0;  // Alignment::free_space
 };
 
+// The name of a candidate that no object of the database explains (paper 3.4, Alg. 3): never
+// the name of a database object.
+inline constexpr const char* kUnknown = "unknown";
+
 struct Recognition {
-  std::string name;  // best.object, or "unknown" (neither names_best() nor the vote names it)
+  std::string name;  // best.object, or kUnknown (neither names_best() nor the vote names it)
   Match best;        // the view of the best rank (Match::rank)
   Match runner_up;   // the best-scoring view (Match::score) of any other object
   // The look-alike vote between best and runner_up when the runner-up came within min_margin

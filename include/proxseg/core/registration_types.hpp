@@ -28,6 +28,10 @@ enum class MultiRadius {
   kConcatenate,  // one descriptor of 33 x radii bins, one RANSAC
   kBestOf,       // one RANSAC per radius, the best of them goes on to ICP
 };
+// The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+inline std::vector<std::string> value_names(MultiRadius) {
+  return {"concatenate", "best_of"};
+}
 
 // How the colour term compares the candidate's colours with the aligned view's [extension,
 // docs/method.md "Colour in recognition"].
@@ -38,6 +42,10 @@ enum class ColourCompare {
                // they are, so that a round object turned about its axis still agrees
   kBest,       // the larger of the two
 };
+// The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+inline std::vector<std::string> value_names(ColourCompare) {
+  return {"points", "histogram", "best"};
+}
 
 struct RegistrationParams {
   MultiRadius multi_radius = MultiRadius::kConcatenate;
@@ -59,10 +67,9 @@ struct RegistrationParams {
   // that a box face is not explained by the flat top of a can of about the same size.
   double score_distance = 0.005;
   // A real sensor's error grows with range [extension, docs/method.md "Real sensors"]: > 0 scores
-  // a candidate at range r with max(score_distance, score_distance_slope x r). 90 % of a real
-  // object's points lie within 6.3-6.8 mm per metre of range of its model put at the true pose
-  // (YCB-Video, both scenes), but at 0.0066 the wider distance let pieces of clutter 1-1.6 m away
-  // fit thin models (8 other names on frames/): off until the decision can tell them apart.
+  // a candidate at range r with max(score_distance, score_distance_slope x r). Off: on the real
+  // scenes the wider distance let distant clutter fit thin models (docs/method.md, "Real
+  // sensors", has the figures).
   double score_distance_slope = 0;
   // Weight of the visible view points that fall outside the candidate's silhouette in the
   // coverage that ranks the views (Alignment::occluded_coverage) [extension, docs/method.md "A

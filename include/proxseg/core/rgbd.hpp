@@ -1,5 +1,6 @@
 // An RGB-D capture as a frame: the pinhole back-projection of a depth image into organized points.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 #include <Eigen/Core>

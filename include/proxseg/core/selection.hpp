@@ -142,6 +142,8 @@ struct SelectionParams {
   // the paper's 3.3 (with the extensions of `voxels`). kImage: on the image grid of organized
   // frames (`image`, `occlusion`, `containers`); unorganized frames always use kVoxels.
   enum class Geometry { kVoxels, kImage };
+  // The names of its values, in its order: how the CLI, JSON configs and Python spell them.
+  friend std::vector<std::string> value_names(Geometry) { return {"voxels", "image"}; }
   Geometry geometry = Geometry::kImage;
   VoxelSelectionParams voxels;
   ImageSelectionParams image;

@@ -2,6 +2,7 @@
 // development set for making the segmentation generalise beyond the few real scenes.
 // docs/clutter.md describes what it makes and what it lacks.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/render.hpp>
 

@@ -1,6 +1,8 @@
 // Cross-validated choice among variants (bench/seg_cv.cpp): each fold's variant is chosen on the
 // scenes outside the fold, so no scene's score comes from a choice that saw it.
 #pragma once
+#include <proxseg/core/errors.hpp>
+
 #include <string>
 #include <vector>
 

@@ -8,6 +8,7 @@
 // "Recognition that generalises"); bench/scene_bench --set objects runs it.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/scene_eval.hpp>
 
 #include <cstdint>

@@ -16,6 +16,7 @@
 //
 // docs/point_mesh.md has the measurements that chose this (and the parameters below).
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/mesh.hpp>
 
@@ -25,10 +26,8 @@
 namespace proxseg {
 
 struct PointMeshParams {
-  // Grid spacing, metres. The points lie within about half of it from the surface (1.5 mm: at
-  // most 1.6 mm, 0.6 mm for 99 %); the triangle count grows as 1 / voxel^2 (1.5 mm: 17k-330k
-  // triangles for the YCB-Video models), time and memory as 1 / voxel^3 (the 24 cm pitcher:
-  // 3.5 million grid nodes, 32 MB).
+  // Grid spacing, metres. The points lie within about half of it from the surface; the triangle
+  // count grows as 1 / voxel^2, time and memory as 1 / voxel^3.
   double voxel = 0.0015;
   // Half the thickness of the surfel layer, in voxels. At least 0.5 so that no path between
   // neighbouring grid nodes crosses the layer (the flood fill cannot leak through a cell).
@@ -67,8 +66,8 @@ struct PointMeshParams {
 
 // A closed-looking triangle mesh through the points (metres), in their frame, triangles wound
 // outwards, every vertex params.colour, label 0. Deterministic: single-threaded, the same
-// points and parameters give the same mesh bit for bit, whatever the thread settings. About
-// 0.1-0.4 s for the YCB-Video models (2,621 points each). InputError for fewer than 4 points or
+// points and parameters give the same mesh bit for bit, whatever the thread settings. InputError
+// for fewer than 4 points or
 // a non-finite coordinate, for parameters out of range or a grid of more than 100 million nodes
 // (raise voxel).
 Mesh mesh_from_points(const std::vector<Eigen::Vector3d>& points,

@@ -5,6 +5,7 @@
 // scene seen several times, not independent samples.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition_types.hpp>
 #include <proxseg/eval/ycb_frames.hpp>

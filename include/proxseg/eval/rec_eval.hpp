@@ -4,6 +4,7 @@
 // bench/rec_bench (`make bench-rec`) runs it; docs/metrics.md defines the measures.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 
 #include <Eigen/Core>

@@ -7,6 +7,7 @@
 // it; docs/metrics.md ("Scenes") defines the measures.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/eval/clutter.hpp>
 #include <proxseg/recognition/recognition.hpp>
 

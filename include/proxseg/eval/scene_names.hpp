@@ -2,6 +2,8 @@
 // file name, and the scene files of a folder in natural order (mOSD learn scenes, the generated
 // clutter, piles and occlusion sets of `proxseg synth`).
 #pragma once
+#include <proxseg/core/errors.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -3,6 +3,7 @@
 // resumable, shardable and spreadable over many processes. The CLI's `--batch` and the Dask runner
 // (python/proxseg/dask.py) are both built from these, so that they write the same files.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/frame_source.hpp>
 #include <proxseg/io/output.hpp>
@@ -117,7 +118,7 @@ nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch)
 // Every OUT/summary*.jsonl, sorted.
 std::vector<std::string> summary_logs(const std::string& out_dir);
 // The last row of each frame in OUT/summary*.jsonl, in natural order of ids: all of them in
-// memory (about 3 KiB a frame: a million frames take 3.4 GB and 20 s), for a batch's per-frame
+// memory (a few KiB a frame: docs/batch.md has the figures), for a batch's per-frame
 // figures; a reader of the .jsonl lines one at a time needs none of it.
 nlohmann::json frame_rows(const std::string& out_dir);
 

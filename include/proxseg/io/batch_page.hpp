@@ -4,6 +4,8 @@
 // that a batch of 10,000 opens at once), the distributions of time and count, and a link from
 // each frame to its 3D page (--outputs html) or picture. `proxseg view OUT/` writes it.
 #pragma once
+#include <proxseg/core/errors.hpp>
+
 #include <string>
 
 namespace proxseg {

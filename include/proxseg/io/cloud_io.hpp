@@ -1,5 +1,6 @@
 // Readers and writers for frames: PCD (ascii, binary, binary_compressed), PLY, colour + depth PNG.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/mesh.hpp>
 #include <proxseg/core/rgbd.hpp>
@@ -32,7 +33,7 @@ Intrinsics read_intrinsics(const std::string& path);
 // YCB-Video meta JSON: intrinsic_matrix (3x3) and factor_depth.
 Intrinsics read_ycb_meta(const std::string& path);
 // 8-bit colour PNG/JPG + 16-bit depth PNG of the same size -> organized frame; depth 0 = invalid.
-Frame read_rgbd(const std::string& color_path, const std::string& depth_path, const Intrinsics& k);
+Frame read_rgbd(const std::string& colour_path, const std::string& depth_path, const Intrinsics& k);
 
 // An 8-bit one-channel label image (PNG) of exactly width x height pixels, row-major values
 // (YCB-Video -label.png). InputError naming the file otherwise.

@@ -1,6 +1,7 @@
 // The frames of a dataset for batch work: point cloud files and RGB-D pairs, found in folders
 // (recursively), list files or globs, each named by its path relative to the dataset's root.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/rgbd.hpp>
 
@@ -14,7 +15,7 @@ namespace proxseg {
 // or "rgb/{id}.png" and "depth/{id}.png" (one folder per stream, as in BOP).
 struct RgbdNaming {
   // A colour image (PNG/JPG) that matches this pattern makes a frame with the depth image below.
-  std::string color = "{id}-color.png";
+  std::string colour = "{id}-color.png";
   // Its 16-bit depth PNG; missing: that frame fails when it is read.
   std::string depth = "{id}-depth.png";
   // Its camera: a JSON file per frame, used when it exists, YCB-Video meta (intrinsic_matrix,
@@ -31,9 +32,9 @@ struct FrameSource {
   // (or without the colour pattern's part around {id}), '/'-separated: "learn0", "video1/000001".
   // Outputs are named after it.
   std::string id;
-  std::string cloud;         // .pcd or .ply; empty for an RGB-D pair
-  std::string color, depth;  // an RGB-D pair
-  std::string camera;        // the pair's camera JSON (read_camera); empty: reading fails
+  std::string cloud;          // .pcd or .ply; empty for an RGB-D pair
+  std::string colour, depth;  // an RGB-D pair
+  std::string camera;         // the pair's camera JSON (read_camera); empty: reading fails
   // An entry of a folder that cannot be read as a frame: a symbolic link loop, a dangling link,
   // a folder that cannot be listed, or a special file (FIFO, device) named like a frame. It
   // stays in the batch so that its row reports it: `problem` says what it is, `unreadable` is

@@ -2,6 +2,7 @@
 // mesh read as metres is a thousand times too large, and recognition would render it from a
 // camera hundreds of metres away (`proxseg db render --units`, Database.render(units=)).
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/mesh.hpp>
 
 #include <string>

@@ -1,6 +1,7 @@
 // Wavefront OBJ meshes with their MTL materials and PNG/JPEG textures, the format most object
 // model sets ship (YCB, Google Scanned Objects), read into a vertex-coloured Mesh for render().
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/mesh.hpp>
 
 #include <string>

@@ -2,6 +2,7 @@
 // atomically).
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition_types.hpp>
 

@@ -2,6 +2,7 @@
 // into every report. The checks (validate) and presets are in pipeline.hpp and
 // recognition_types.hpp.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/recognition_types.hpp>
 

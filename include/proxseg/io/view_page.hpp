@@ -5,6 +5,7 @@
 // pose), and each candidate's or recognised object's oriented box (and a recognised object's
 // axes at its estimated pose). `proxseg view PREFIX` and `--outputs html` write it.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 #include <cstdint>

@@ -6,6 +6,7 @@
 // database as it was when it opened it (plus its own adds), never half an add.
 #pragma once
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 
 #include <Eigen/Core>

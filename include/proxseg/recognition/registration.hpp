@@ -1,6 +1,7 @@
 // Registration [paper 3.4, Algorithm 2]: align a model view to a candidate object (centroid
 // shift, FPFH, RANSAC on feature correspondences, ICP) and score the alignment (eq. 4-5).
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/core/registration_types.hpp>
 
