@@ -165,6 +165,18 @@ fuzz:
 deps-bench:
 	@bash scripts/install-deps.sh --bench
 
+# The steps every bench recipe shares: $(call bench_build,TARGETS) builds the targets;
+# $(call bench_results,SECTION,FILE,NOTE) regenerates SECTION of docs/results.md from FILE and says
+# so, NOTE after (where the rest of the outputs are).
+# $(call bench_update,SECTION,FILE) only regenerates (NOTE: use $(comma) for a comma).
+comma := ,
+bench_build = @cmake --build $(BUILD) -j $(JOBS) --target $(1)
+bench_update = @bash scripts/update-results.sh docs/results.md $(1) $(2)
+define bench_results
+$(call bench_update,$(1),$(2))
+@echo "docs/results.md ($(1)) regenerated$(3)"
+endef
+
 bench: bench-seg bench-ablation bench-rec bench-mem bench-scenes bench-objects bench-dbscale bench-python bench-batch bench-view bench-real
 
 # The generated development scenes of the segmentation: clutter (60), piles and occlusion (30
@@ -178,36 +190,35 @@ seg-dev: configure
 	    --count $$n --models $(DATA)/lmo/models -o $(SEGDEV) > /dev/null; done
 
 bench-seg: deps-bench configure seg-dev
-	@cmake --build $(BUILD) -j $(JOBS) --target seg_bench proxseg_cli
+	$(call bench_build,seg_bench proxseg_cli)
 	@mkdir -p $(BUILD)/bench-out
 	@$(BUILD)/bench/seg_bench --data $(DATA)/mosd/learn --clutter $(SEGDEV) \
 	  --methods "proxseg paper,proxseg default,PCL LCCP,PCL plane + Euclidean" \
 	  --out $(BUILD)/bench-out/segmentation.md --csv $(BUILD)/bench-out/segmentation.csv
-	@bash scripts/update-results.sh docs/results.md segmentation $(BUILD)/bench-out/segmentation.md
-	@echo "docs/results.md (segmentation) regenerated; per-scene CSV in $(BUILD)/bench-out/"
+	$(call bench_results,segmentation,$(BUILD)/bench-out/segmentation.md,; per-scene CSV in $(BUILD)/bench-out/)
 
-# Peak RSS of one frame and of a 64-view recognition; RSS over a 100-frame batch (no growth).
+# What each segmentation stage buys: seg_cv with each stage off in turn (bench/seg_ablation.json)
+# on mOSD learn and the generated sets, cross-validated folds.
 bench-ablation: configure seg-dev
-	@cmake --build $(BUILD) -j $(JOBS) --target seg_cv
+	$(call bench_build,seg_cv)
 	@mkdir -p $(BUILD)/bench-out
 	@$(BUILD)/bench/seg_cv --data $(DATA)/mosd/learn --clutter $(SEGDEV) --threads 2 \
 	  --grid bench/seg_ablation.json --out $(BUILD)/bench-out/ablation.md \
 	  --title "Segmentation: what each stage buys (each off in turn, cross-validated)"
-	@bash scripts/update-results.sh docs/results.md ablation $(BUILD)/bench-out/ablation.md
-	@echo "docs/results.md (ablation) regenerated"
+	$(call bench_results,ablation,$(BUILD)/bench-out/ablation.md,)
 
+# Peak RSS of one frame and of a 64-view recognition; RSS over a 100-frame batch (no growth).
 bench-mem: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli mem_bench
+	$(call bench_build,proxseg_cli mem_bench)
 	@mkdir -p $(BUILD)/bench-out
 	@$(BUILD)/bench/mem_bench --cli $(BUILD)/proxseg --data $(DATA) --out $(BUILD)/bench-out/memory.md \
 	  --json $(BUILD)/bench-out/memory.json
-	@bash scripts/update-results.sh docs/results.md memory $(BUILD)/bench-out/memory.md
-	@echo "docs/results.md (memory) regenerated"
+	$(call bench_results,memory,$(BUILD)/bench-out/memory.md,)
 
 # The paper's recognition experiments (Tables 2-3, ROC) with the peers: about 45 min on 2 cores.
 REC_OUT = $(BUILD)/bench-out/rec
 bench-rec: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target rec_bench
+	$(call bench_build,rec_bench)
 	@$(BUILD)/bench/rec_bench --models $(DATA)/lmo/models --views 8 --tests 2241 --seed 1 \
 	  -o $(REC_OUT)
 	@mkdir -p docs/img
@@ -217,17 +228,15 @@ bench-rec: deps-bench configure
 	  tail -n +2 $(REC_OUT)/summary.md; \
 	  printf '\n![ROC](img/rec-roc.png)\n\n![Precision-recall per occlusion](img/rec-pr.png)\n'; \
 	} > $(REC_OUT)/section.md
-	@bash scripts/update-results.sh docs/results.md recognition $(REC_OUT)/section.md
-	@echo "docs/results.md (recognition) regenerated; tables, CSV and plots in $(REC_OUT)/"
+	$(call bench_results,recognition,$(REC_OUT)/section.md,; tables$(comma) CSV and plots in $(REC_OUT)/)
 
 # Scene recognition end to end (scene_eval.hpp): 20 development + 20 report scenes through
 # proxseg and the PCL + Open3D peer: about 1.5-2 h on 2 shared cores (3-4 min per scene).
 SCENES_OUT = $(BUILD)/bench-out/scenes
 bench-scenes: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target scene_bench
+	$(call bench_build,scene_bench)
 	@$(BUILD)/bench/scene_bench --models $(DATA)/lmo/models -o $(SCENES_OUT)
-	@bash scripts/update-results.sh docs/results.md scenes $(SCENES_OUT)/scenes.md
-	@echo "docs/results.md (scenes) regenerated; per-prediction and per-object CSV in $(SCENES_OUT)/"
+	$(call bench_results,scenes,$(SCENES_OUT)/scenes.md,; per-prediction and per-object CSV in $(SCENES_OUT)/)
 
 # Recognition on objects it was never tuned on (object_set.hpp, docs/method.md "Recognition that
 # generalises"): 13 object folds in two halves, 2 dev + 2 report scenes each, then the PCL + Open3D
@@ -236,12 +245,12 @@ OBJECTS_OUT = $(BUILD)/bench-out/objects
 OBJECTS_ARGS = --set objects --models $(DATA)/lmo/models --ycbv $(DATA)/ycbv \
   --textured $(DATA)/ycb_textured
 bench-objects: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target scene_bench
+	$(call bench_build,scene_bench)
 	@$(BUILD)/bench/scene_bench $(OBJECTS_ARGS) --fold-scenes 2 --peers none -o $(OBJECTS_OUT)
-	@bash scripts/update-results.sh docs/results.md objects $(OBJECTS_OUT)/scenes.md
+	$(call bench_update,objects,$(OBJECTS_OUT)/scenes.md)
 	@$(BUILD)/bench/scene_bench $(OBJECTS_ARGS) --max-folds 1 --fold-scenes 1 --peers all \
 	  -o $(OBJECTS_OUT)-peer
-	@bash scripts/update-results.sh docs/results.md objects-peer $(OBJECTS_OUT)-peer/scenes.md
+	$(call bench_update,objects-peer,$(OBJECTS_OUT)-peer/scenes.md)
 	@echo "docs/results.md (objects, objects-peer) regenerated; CSV in $(OBJECTS_OUT)*/"
 
 # Recognition against database size (db_scale_bench): 64, 512, 4,096 and 16,384 views, each
@@ -250,49 +259,44 @@ bench-objects: deps-bench configure
 # size: about 35 min on 2 shared cores (rendering 16,384 views is most of it). Needs no PCL.
 DBSCALE_OUT = $(BUILD)/bench-out/dbscale
 bench-dbscale: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target db_scale_bench proxseg_tools
+	$(call bench_build,db_scale_bench proxseg_tools)
 	@$(BUILD)/bench/db_scale_bench --models $(DATA)/lmo/models --sizes 64,512,4096,16384 \
 	  --tests 200 --all-tests 40 --all-max-views 512 --process-tests 8 --seed 1 -o $(DBSCALE_OUT)
-	@bash scripts/update-results.sh docs/results.md dbscale $(DBSCALE_OUT)/dbscale.md
-	@echo "docs/results.md (dbscale) regenerated; every object and row in $(DBSCALE_OUT)/dbscale.json"
+	$(call bench_results,dbscale,$(DBSCALE_OUT)/dbscale.md,; every object and row in $(DBSCALE_OUT)/dbscale.json)
 
 # The Python module's overhead against the C++ library and the CLI (bench/python_bench.py):
 # a few minutes.
 bench-python: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target _proxseg segment_loop proxseg_cli
+	$(call bench_build,_proxseg segment_loop proxseg_cli)
 	@$(PYTHON) bench/python_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
-	@bash scripts/update-results.sh docs/results.md python $(BUILD)/bench-out/python.md
-	@echo "docs/results.md (python) regenerated; raw figures in $(BUILD)/bench-out/python.json"
+	$(call bench_results,python,$(BUILD)/bench-out/python.md,; raw figures in $(BUILD)/bench-out/python.json)
 
 # Batch work (bench/batch_bench.py): throughput of segment --batch (all cores; --threads 1),
 # proxseg.dask (2 workers) and one CLI call per frame on the same 100 frames (mOSD + YCB-Video
 # pairs), bytes written per --outputs choice, RSS over a 2,000-frame batch (fails above 5 %
 # growth), the cost of 100k frames on N workers: about 10 min on 2 cores.
 bench-batch: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target _proxseg proxseg_cli
+	$(call bench_build,_proxseg proxseg_cli)
 	@$(PYTHON) bench/batch_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
-	@bash scripts/update-results.sh docs/results.md batch $(BUILD)/bench-out/batch.md
-	@echo "docs/results.md (batch) regenerated; raw figures in $(BUILD)/bench-out/batch.json"
+	$(call bench_results,batch,$(BUILD)/bench-out/batch.md,; raw figures in $(BUILD)/bench-out/batch.json)
 
 # The pages of `proxseg view` (bench/view_bench.py) in headless Chromium: bytes, time to the first
 # frame drawn and per frame of a turn, for the 45 mOSD scenes and 10 YCB-Video recognitions, and
 # the batch page of generated logs of 1,000-1,000,000 frames; fails when a page misses issue 35's
 # limits (3 MB, 2 s; 3 s for 10,000 frames). A few minutes.
 bench-view: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target proxseg_cli
+	$(call bench_build,proxseg_cli)
 	@$(PYTHON) bench/view_bench.py --build $(BUILD) --data $(DATA) --out $(BUILD)/bench-out
-	@bash scripts/update-results.sh docs/results.md view $(BUILD)/bench-out/view.md
-	@echo "docs/results.md (view) regenerated; raw figures in $(BUILD)/bench-out/view.json"
+	$(call bench_results,view,$(BUILD)/bench-out/view.md,; raw figures in $(BUILD)/bench-out/view.json)
 
 # Real YCB-Video scenes, each video one fold (bench/real_bench.cpp): proxseg's variants of
 # bench/real_grid.json chosen on one fold and reported on the other, leave-one-out databases,
 # PCL LCCP and the Open3D and OpenCV PPF peers on the same frames. About 15 min on 2 cores.
 REAL_OUT = $(BUILD)/bench-out/real
 bench-real: deps-bench configure
-	@cmake --build $(BUILD) -j $(JOBS) --target real_bench
+	$(call bench_build,real_bench)
 	@$(BUILD)/bench/real_bench --ycbv $(DATA)/ycbv --grid bench/real_grid.json -o $(REAL_OUT)
-	@bash scripts/update-results.sh docs/results.md real $(REAL_OUT)/real.md
-	@echo "docs/results.md (real) regenerated; per-object CSV in $(REAL_OUT)/"
+	$(call bench_results,real,$(REAL_OUT)/real.md,; per-object CSV in $(REAL_OUT)/)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -16,6 +16,16 @@
 
 namespace proxseg::bench {
 
+// The output folder `dir`, made when missing; an InputError when it cannot be.
+inline std::filesystem::path output_folder(const std::string& dir) {
+  const std::filesystem::path out(dir);
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec || !std::filesystem::is_directory(out))
+    throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
+  return out;
+}
+
 // Writes each (file name, text) into `out`, atomically, then prints the summary: its JSON with
 // --json, else the markdown report. Returns the exit code, 0.
 inline int finish(const std::filesystem::path& out,

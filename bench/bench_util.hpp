@@ -20,7 +20,7 @@ inline double ms_since(Clock::time_point t) {
 }
 
 // v with `digits` digits after the point.
-inline std::string fixed(double v, int digits) {
+inline std::string fixed(double v, int digits = 1) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;

@@ -16,6 +16,8 @@
 
 #include <proxseg/io/memory.hpp>
 
+#include <CLI/CLI.hpp>
+
 #include <cstdint>
 #include <exception>
 #include <filesystem>
@@ -24,6 +26,8 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include "bench_main.hpp"
 
 namespace {
 
@@ -112,54 +116,39 @@ bool read_cloud(const std::string& path, pcl::PointCloud<Point>& cloud) {
   return pcl::io::loadPCDFile<Point>(path, cloud) >= 0 && !cloud.empty();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // The allocator settings proxseg's CLI uses, so that the whole-process comparison is of the two
-  // programs' work, not of glibc's defaults.
-  proxseg::keep_freed_memory();
-  std::vector<std::string> inputs;
-  std::string out_dir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if ((a == "-o" || a == "--output") && i + 1 < argc)
-      out_dir = argv[++i];
-    else
-      inputs.push_back(a);
-  }
-  if (inputs.empty() || out_dir.empty()) {
-    std::cerr << "usage: lccp_process INPUT.pcd... -o OUTDIR\n"
-                 "PCL supervoxels + LCCP on each cloud; writes OUTDIR/<stem>.pcd with a label "
-                 "field\n";
-    return 2;
-  }
+// Each input segmented and written to OUTDIR/<stem>.pcd; an InputError when one cannot be.
+int run(const std::vector<std::string>& inputs, const std::string& out_dir) {
   pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
-  try {
-    fs::create_directories(out_dir);
-    for (const std::string& input : inputs) {
-      const fs::path output = fs::path(out_dir) / (fs::path(input).stem().string() + ".pcd");
-      if (fs::exists(output) && fs::equivalent(input, output)) {
-        std::cerr << "lccp_process: " << output.string() << " would overwrite the input\n";
-        return 1;
-      }
-      pcl::PointCloud<Point>::Ptr cloud(new pcl::PointCloud<Point>);
-      if (!read_cloud(input, *cloud)) {
-        std::cerr << "lccp_process: " << input
-                  << ": not a readable PCD with x y z fields and points\n";
-        return 1;
-      }
-      const std::vector<std::uint32_t> labels = segment(cloud);
-      pcl::PointCloud<pcl::PointXYZRGBL> result;
-      pcl::copyPointCloud(*cloud, result);
-      for (std::size_t i = 0; i < labels.size(); ++i) result[i].label = labels[i];
-      if (pcl::io::savePCDFileBinary(output.string(), result) < 0) {
-        std::cerr << "lccp_process: " << output.string() << ": cannot write\n";
-        return 1;
-      }
-    }
-  } catch (const std::exception& e) {  // pcl::PCLException, std::filesystem::filesystem_error
-    std::cerr << "lccp_process: " << e.what() << "\n";
-    return 1;
+  fs::create_directories(out_dir);
+  for (const std::string& input : inputs) {
+    const fs::path output = fs::path(out_dir) / (fs::path(input).stem().string() + ".pcd");
+    if (fs::exists(output) && fs::equivalent(input, output))
+      throw proxseg::InputError(output.string() + " would overwrite the input");
+    pcl::PointCloud<Point>::Ptr cloud(new pcl::PointCloud<Point>);
+    if (!read_cloud(input, *cloud))
+      throw proxseg::InputError(input + ": not a readable PCD with x y z fields and points");
+    const std::vector<std::uint32_t> labels = segment(cloud);
+    pcl::PointCloud<pcl::PointXYZRGBL> result;
+    pcl::copyPointCloud(*cloud, result);
+    for (std::size_t i = 0; i < labels.size(); ++i) result[i].label = labels[i];
+    if (pcl::io::savePCDFileBinary(output.string(), result) < 0)
+      throw proxseg::InputError(output.string() + ": cannot write");
   }
   return 0;
+}
+
+}  // namespace
+
+// main_of sets the allocator as proxseg's CLI does, so that the whole-process comparison is of
+// the two programs' work, not of glibc's defaults.
+int main(int argc, char** argv) {
+  CLI::App app{
+      "lccp_process: PCL supervoxels + LCCP on each cloud; writes OUTDIR/<stem>.pcd with a label "
+      "field"};
+  std::vector<std::string> inputs;
+  std::string out_dir;
+  app.add_option("inputs", inputs, "INPUT.pcd files")->required();
+  app.add_option("-o,--output", out_dir, "OUTDIR")->required();
+  return proxseg::bench::main_of("lccp_process", app, argc, argv,
+                                 [&] { return run(inputs, out_dir); });
 }

@@ -27,6 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
+#include "bench_util.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -109,229 +112,303 @@ proxseg::Frame upsampled(const proxseg::Frame& f, int k) {
 }
 
 std::string fixed(double v, int digits = 0) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
+  return proxseg::bench::fixed(v, digits);
+}
+
+struct Options {
+  std::string cli, data, out, json_out;
+  int frames = 100;
+  double max_growth = 0.10;
+  double sweep_from = 400, sweep_to = 900, sweep_step = 20;
+};
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("--cli", o.cli, "The proxseg executable")->required();
+  app.add_option("--data", o.data, "../shared/data")->required();
+  app.add_option("--out", o.out, "Markdown section to write")->required();
+  app.add_option("--json", o.json_out, "Also write the measurements as JSON");
+  app.add_option("--frames", o.frames, "Frames in the batch");
+  app.add_option("--max-growth", o.max_growth,
+                 "Fail if the RSS after the last frame exceeds that after the first cycle of the "
+                 "distinct scenes by this share");
+  app.add_option("--sweep-from", o.sweep_from, "Smallest address-space limit of the sweep, MiB");
+  app.add_option("--sweep-to", o.sweep_to, "Largest address-space limit of the sweep, MiB");
+  app.add_option("--sweep-step", o.sweep_step, "Step of the sweep, MiB")
+      ->check(CLI::PositiveNumber);
+}
+
+// Where the runs work and what they read.
+struct Paths {
+  fs::path work, log, db;
+  std::string scene;            // mOSD learn0
+  std::vector<fs::path> learn;  // every mOSD learn scene, sorted
+};
+
+// The resident set after each frame of the batch, and how it grew after one cycle of the scenes.
+struct Batch {
+  Run run;
+  std::vector<double> rss;
+  int cycle = 0;
+  double at_cycle = 0, last = 0, growth = 0, max_rss = 0;
+};
+
+struct Estimate {
+  std::string frame;
+  bool paper;
+  double estimate, peak;
+};
+
+struct Job {
+  std::string name;
+  std::vector<std::string> args;
+};
+
+// The address-space sweep: per job, per limit, how the run ended ("0", "1: message", "127", or
+// the signal).
+struct Sweep {
+  std::vector<Job> jobs;
+  std::vector<double> limits;
+  std::vector<std::vector<std::string>> endings;
+  bool signalled = false;
+};
+
+Paths paths(const Options& o) {
+  Paths p;
+  p.work = fs::path(o.out).parent_path() / "mem-work";
+  fs::remove_all(p.work);
+  fs::create_directories(p.work);
+  p.log = p.work / "log.txt";
+  p.scene = o.data + "/mosd/learn/learn0.pcd";
+  p.db = p.work / "db";
+  for (const auto& e : fs::directory_iterator(o.data + "/mosd/learn"))
+    if (e.path().extension() == ".pcd") p.learn.push_back(e.path());
+  std::sort(p.learn.begin(), p.learn.end());
+  return p;
+}
+
+// The 64-view database, then learn0 recognised against it.
+Run recognise_64(const Options& o, const Paths& p) {
+  std::cerr << "mem_bench: a 64-view database\n";
+  const std::vector<std::string> ids = {"01", "05", "06", "08", "09", "10", "11", "12"};
+  for (const auto& id : ids)
+    run(o.cli,
+        {"db", "render", p.db.string(), "--name", "obj_" + id,
+         o.data + "/lmo/models/obj_0000" + id + ".ply", "--views", "8", "--units", "mm"},
+        p.log);
+  return run(o.cli, {"recognize", p.scene, "--db", p.db.string(), "-o", (p.work / "rec").string()},
+             p.log);
+}
+
+Batch batch(const Options& o, const Paths& p) {
+  std::cerr << "mem_bench: a batch of " << o.frames << " frames\n";
+  const fs::path in = p.work / "batch-in";
+  fs::create_directories(in);
+  if (p.learn.empty()) throw std::runtime_error(o.data + "/mosd/learn: no scenes");
+  for (int i = 0; i < o.frames; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame%03d.pcd", i);
+    fs::create_symlink(fs::absolute(p.learn[i % p.learn.size()]), in / name);
+  }
+  Batch b;
+  b.run =
+      run(o.cli, {"segment", "--batch", in.string(), "-o", (p.work / "batch-out").string()}, p.log);
+  // The frames' rows of the batch's summary.jsonl (one run: one row a frame, in order).
+  std::ifstream sin(p.work / "batch-out" / "summary.jsonl");
+  for (std::string line; std::getline(sin, line);)
+    if (const auto row = nlohmann::json::parse(line); row.contains("frame"))
+      b.rss.push_back(row["rss_mib"].get<double>());
+  if (static_cast<int>(b.rss.size()) != o.frames)
+    throw std::runtime_error("batch summary has " + std::to_string(b.rss.size()) + " frames");
+  // The frames cycle through the distinct scenes; the heap keeps what the largest needed
+  // (keep_freed_memory), so the resident set rises until every scene has been seen once.
+  // Growth after that cycle would be a leak.
+  b.cycle = std::min(o.frames, static_cast<int>(p.learn.size()));
+  b.at_cycle = b.rss[b.cycle - 1];
+  b.last = b.rss.back();
+  b.growth = (b.last - b.at_cycle) / b.at_cycle;
+  b.max_rss = *std::max_element(b.rss.begin(), b.rss.end());
+  return b;
+}
+
+// The estimate of --max-memory against the peaks of learn0 at 1x, 2x, 3x the size.
+std::vector<Estimate> estimates(const Options& o, const Paths& p) {
+  std::cerr << "mem_bench: the estimate of --max-memory against frames of 1x, 2x, 3x the size\n";
+  std::vector<Estimate> out;
+  const proxseg::Frame learn0 = proxseg::read_pcd(p.scene);
+  for (int k = 1; k <= 3; ++k) {
+    const fs::path big = p.work / ("learn0-x" + std::to_string(k) + ".pcd");
+    const proxseg::Frame f = upsampled(learn0, k);
+    proxseg::write_pcd(big.string(), f, {});
+    for (const bool paper : {false, true}) {
+      proxseg::SegmentParams params = proxseg::preset("default");
+      params.paper_labels = paper;
+      std::vector<std::string> args = {"segment", big.string(), "-o", (p.work / "big").string()};
+      if (paper) args.push_back("--paper-labels");
+      const Run r = run(o.cli, args, p.log);
+      out.push_back({std::to_string(f.width) + "x" + std::to_string(f.height), paper,
+                     proxseg::segment_memory_mib(f, params), r.peak_mib});
+    }
+  }
+  return out;
+}
+
+// How one run under an address-space limit of `mib` ended.
+std::string sweep_one(const Options& o, const Paths& p, const Job& job, double mib,
+                      bool& signalled) {
+  fs::remove_all(p.work / "lim-batch");
+  const Run r = launch(o.cli, job.args, p.log, mib);
+  const std::string output = slurp(p.log);
+  const bool ok = WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0;
+  const bool failed =
+      WIFEXITED(r.status) && WEXITSTATUS(r.status) == 1 && !error_line(output).empty();
+  // Below what its shared libraries need, the dynamic loader stops before main: exit 127.
+  const bool unloaded = WIFEXITED(r.status) && WEXITSTATUS(r.status) == 127 &&
+                        output.find("error while loading shared libraries") != std::string::npos;
+  if (unloaded) return "127";
+  if (!ok && !failed) {
+    signalled = true;
+    std::cerr << "mem_bench: " << job.name << " at " << mib << " MiB: " << ending(r.status) << "\n"
+              << output;
+  }
+  std::string e = ok ? "0" : failed ? "1" : ending(r.status);
+  if (failed && !ok) e += ": " + error_line(output);
+  return e;
+}
+
+Sweep sweep(const Options& o, const Paths& p) {
+  std::cerr << "mem_bench: address-space limits " << o.sweep_from << "-" << o.sweep_to << " MiB\n";
+  const fs::path five = p.work / "batch-5";
+  fs::create_directories(five);
+  for (int i = 0; i < 5; ++i)
+    fs::create_symlink(fs::absolute(p.learn[i % p.learn.size()]),
+                       five / ("frame" + std::to_string(i) + ".pcd"));
+  Sweep s;
+  s.jobs = {
+      {"`segment` learn0", {"segment", p.scene, "-o", (p.work / "lim").string()}},
+      {"`segment --paper-labels --threads 4` learn0",
+       {"segment", p.scene, "--paper-labels", "--threads", "4", "-o", (p.work / "lim").string()}},
+      {"`segment --batch` 5 frames, 2 at once",
+       {"segment", "--batch", five.string(), "--threads", "2", "-o",
+        (p.work / "lim-batch").string()}},
+      {"`recognize` learn0, 64 views",
+       {"recognize", p.scene, "--db", p.db.string(), "-o", (p.work / "lim-rec").string()}}};
+  for (double mib = o.sweep_from; mib <= o.sweep_to + 1e-9; mib += o.sweep_step)
+    s.limits.push_back(mib);
+  s.endings.resize(s.jobs.size());
+  for (std::size_t j = 0; j < s.jobs.size(); ++j)
+    for (const double mib : s.limits)
+      s.endings[j].push_back(sweep_one(o, p, s.jobs[j], mib, s.signalled));
+  return s;
+}
+
+void md_peaks(std::ostream& md, const Options& o, const Paths& p, const Run& segment,
+              const Run& recognize, const Batch& b) {
+  const int frames = o.frames;
+  md << "## Memory\n\nPeak resident set of the `proxseg` process (Linux `wait4`), and the "
+        "resident "
+        "set after each frame of a batch (`segment --batch`, the rows of its `summary.jsonl`). "
+     << "`make bench` fails if the batch grows by more than " << fixed(100 * o.max_growth)
+     << " % from frame " << b.cycle << " (each of the " << p.learn.size()
+     << " scenes seen once: the heap keeps what the largest needed) to frame " << frames << ".\n\n"
+     << "| run | peak RSS (MiB) |\n|---|---:|\n"
+     << "| `segment` one 640x480 frame (mOSD learn0) | " << fixed(segment.peak_mib) << " |\n"
+     << "| `recognize` learn0 against 64 views (8 LINEMOD objects x 8) | "
+     << fixed(recognize.peak_mib) << " |\n"
+     << "| `segment --batch` " << frames << " frames (mOSD learn, cycled) | "
+     << fixed(b.run.peak_mib) << " |\n\n"
+     << "Resident set during the batch (MiB): after frame 1 " << fixed(b.rss.front())
+     << ", frame 10 " << fixed(b.rss[std::min(9, frames - 1)]) << ", frame " << b.cycle << " "
+     << fixed(b.at_cycle) << ", frame " << frames / 2 << " " << fixed(b.rss[frames / 2 - 1])
+     << ", frame " << frames << " " << fixed(b.last) << ", highest " << fixed(b.max_rss)
+     << "; growth from frame " << b.cycle << " to " << frames << ": " << fixed(100 * b.growth, 1)
+     << " %.\n";
+}
+
+void md_estimates(std::ostream& md, const std::vector<Estimate>& estimates) {
+  md << "\n### The estimate behind --max-memory\n\n`segment_memory_mib()` (an estimate from the "
+        "frame's size, checked before a frame starts) against the peak resident set of "
+        "`proxseg segment` on learn0 and learn0 upsampled 2x and 3x:\n\n"
+     << "| frame | paper labels | estimate (MiB) | peak RSS (MiB) | estimate / peak |\n"
+     << "|---|---|---:|---:|---:|\n";
+  for (const Estimate& e : estimates)
+    md << "| " << e.frame << " | " << (e.paper ? "yes" : "no") << " | " << fixed(e.estimate)
+       << " | " << fixed(e.peak) << " | " << fixed(e.estimate / e.peak, 2) << " |\n";
+}
+
+void md_sweep(std::ostream& md, const Options& o, const Sweep& s) {
+  md << "\n### Address-space limits\n\nEach run under `ulimit -v` (RLIMIT_AS) from "
+     << fixed(o.sweep_from) << " to " << fixed(o.sweep_to) << " MiB in steps of "
+     << fixed(o.sweep_step)
+     << " MiB: 0 = done, 1 = stopped with a message (the first is quoted), 127 = the dynamic "
+        "loader could not map the program's libraries (before proxseg runs), anything else (a "
+        "signal) is a failure of the benchmark.\n\n"
+     << "| run | limits | exit 0 | exit 1 | exit 127 | other | first message |\n"
+     << "|---|---:|---:|---:|---:|---:|---|\n";
+  for (std::size_t j = 0; j < s.jobs.size(); ++j) {
+    std::size_t done = 0, stopped = 0, unloaded = 0;
+    std::string first;
+    for (const std::string& e : s.endings[j]) {
+      done += e == "0";
+      unloaded += e == "127";
+      stopped += e == "1" || e.rfind("1: ", 0) == 0;
+      if (first.empty() && e.rfind("1: ", 0) == 0) first = e.substr(3);
+    }
+    md << "| " << s.jobs[j].name << " | " << s.limits.size() << " | " << done << " | " << stopped
+       << " | " << unloaded << " | " << s.limits.size() - done - stopped - unloaded << " | "
+       << first << " |\n";
+  }
+}
+
+// 1 with the reason when the batch grew, an estimate fell below its peak or a run of the sweep
+// ended by a signal.
+int verdict(const Options& o, const Batch& b, const std::vector<Estimate>& estimates,
+            const Sweep& s) {
+  bool under = false;
+  for (const Estimate& e : estimates) under = under || e.estimate < e.peak;
+  if (b.growth > o.max_growth) {
+    std::cerr << "mem_bench: the batch grew by " << fixed(100 * b.growth, 1) << " %\n";
+    return 1;
+  }
+  if (under) {
+    std::cerr << "mem_bench: an estimate of --max-memory is below the peak it estimates\n";
+    return 1;
+  }
+  if (s.signalled) {
+    std::cerr << "mem_bench: a run under an address-space limit ended by a signal\n";
+    return 1;
+  }
+  return 0;
+}
+
+int run_all(const Options& o) {
+  const Paths p = paths(o);
+  std::cerr << "mem_bench: one 640x480 frame\n";
+  const Run segment = run(o.cli, {"segment", p.scene, "-o", (p.work / "seg").string()}, p.log);
+  const Run recognize = recognise_64(o, p);
+  const Batch b = batch(o, p);
+  const std::vector<Estimate> e = estimates(o, p);
+  const Sweep s = sweep(o, p);
+  std::ostringstream md;
+  md_peaks(md, o, p, segment, recognize, b);
+  md_estimates(md, e);
+  md_sweep(md, o, s);
+  std::ofstream(o.out) << md.str();
+  if (!o.json_out.empty())
+    std::ofstream(o.json_out) << nlohmann::json{
+        {"segment_peak_mib", segment.peak_mib},
+        {"recognize_64_views_peak_mib", recognize.peak_mib},
+        {"batch_peak_mib", b.run.peak_mib},
+        {"batch_rss_mib", b.rss},
+        {"batch_growth", b.growth}}.dump(2);
+  std::cout << md.str();
+  return verdict(o, b, e, s);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Peak and per-frame memory of proxseg (docs/robustness.md)"};
-  std::string cli, data, out, json_out;
-  int frames = 100;
-  double max_growth = 0.10;
-  app.add_option("--cli", cli, "The proxseg executable")->required();
-  app.add_option("--data", data, "../shared/data")->required();
-  app.add_option("--out", out, "Markdown section to write")->required();
-  app.add_option("--json", json_out, "Also write the measurements as JSON");
-  app.add_option("--frames", frames, "Frames in the batch");
-  app.add_option("--max-growth", max_growth,
-                 "Fail if the RSS after the last frame exceeds that after the first cycle of the "
-                 "distinct scenes by this share");
-  double sweep_from = 400, sweep_to = 900, sweep_step = 20;
-  app.add_option("--sweep-from", sweep_from, "Smallest address-space limit of the sweep, MiB");
-  app.add_option("--sweep-to", sweep_to, "Largest address-space limit of the sweep, MiB");
-  app.add_option("--sweep-step", sweep_step, "Step of the sweep, MiB")->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
-  try {
-    const fs::path work = fs::path(out).parent_path() / "mem-work";
-    fs::remove_all(work);
-    fs::create_directories(work);
-    const fs::path log = work / "log.txt";
-    const std::string scene = data + "/mosd/learn/learn0.pcd";
-
-    std::cerr << "mem_bench: one 640x480 frame\n";
-    const Run segment = run(cli, {"segment", scene, "-o", (work / "seg").string()}, log);
-
-    std::cerr << "mem_bench: a 64-view database\n";
-    const fs::path db = work / "db";
-    const std::vector<std::string> ids = {"01", "05", "06", "08", "09", "10", "11", "12"};
-    for (const auto& id : ids)
-      run(cli,
-          {"db", "render", db.string(), "--name", "obj_" + id,
-           data + "/lmo/models/obj_0000" + id + ".ply", "--views", "8", "--units", "mm"},
-          log);
-    const Run recognize =
-        run(cli, {"recognize", scene, "--db", db.string(), "-o", (work / "rec").string()}, log);
-
-    std::cerr << "mem_bench: a batch of " << frames << " frames\n";
-    const fs::path in = work / "batch-in";
-    fs::create_directories(in);
-    std::vector<fs::path> learn;
-    for (const auto& e : fs::directory_iterator(data + "/mosd/learn"))
-      if (e.path().extension() == ".pcd") learn.push_back(e.path());
-    std::sort(learn.begin(), learn.end());
-    if (learn.empty()) throw std::runtime_error(data + "/mosd/learn: no scenes");
-    for (int i = 0; i < frames; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "frame%03d.pcd", i);
-      fs::create_symlink(fs::absolute(learn[i % learn.size()]), in / name);
-    }
-    const Run batch =
-        run(cli, {"segment", "--batch", in.string(), "-o", (work / "batch-out").string()}, log);
-    // The frames' rows of the batch's summary.jsonl (one run: one row a frame, in order).
-    std::vector<double> rss;
-    std::ifstream sin(work / "batch-out" / "summary.jsonl");
-    for (std::string line; std::getline(sin, line);)
-      if (const auto row = nlohmann::json::parse(line); row.contains("frame"))
-        rss.push_back(row["rss_mib"].get<double>());
-    if (static_cast<int>(rss.size()) != frames)
-      throw std::runtime_error("batch summary has " + std::to_string(rss.size()) + " frames");
-    // The frames cycle through the distinct scenes; the heap keeps what the largest needed
-    // (keep_freed_memory), so the resident set rises until every scene has been seen once.
-    // Growth after that cycle would be a leak.
-    const int cycle = std::min(frames, static_cast<int>(learn.size()));
-    const double at_cycle = rss[cycle - 1], last = rss.back();
-    const double growth = (last - at_cycle) / at_cycle;
-    const double max_rss = *std::max_element(rss.begin(), rss.end());
-
-    std::cerr << "mem_bench: the estimate of --max-memory against frames of 1x, 2x, 3x the size\n";
-    struct Estimate {
-      std::string frame;
-      bool paper;
-      double estimate, peak;
-    };
-    std::vector<Estimate> estimates;
-    bool under = false;
-    const proxseg::Frame learn0 = proxseg::read_pcd(scene);
-    for (int k = 1; k <= 3; ++k) {
-      const fs::path big = work / ("learn0-x" + std::to_string(k) + ".pcd");
-      const proxseg::Frame f = upsampled(learn0, k);
-      proxseg::write_pcd(big.string(), f, {});
-      for (const bool paper : {false, true}) {
-        proxseg::SegmentParams p = proxseg::preset("default");
-        p.paper_labels = paper;
-        std::vector<std::string> args = {"segment", big.string(), "-o", (work / "big").string()};
-        if (paper) args.push_back("--paper-labels");
-        const Run r = run(cli, args, log);
-        estimates.push_back({std::to_string(f.width) + "x" + std::to_string(f.height), paper,
-                             proxseg::segment_memory_mib(f, p), r.peak_mib});
-        under = under || estimates.back().estimate < r.peak_mib;
-      }
-    }
-
-    std::cerr << "mem_bench: address-space limits " << sweep_from << "-" << sweep_to << " MiB\n";
-    const fs::path five = work / "batch-5";
-    fs::create_directories(five);
-    for (int i = 0; i < 5; ++i)
-      fs::create_symlink(fs::absolute(learn[i % learn.size()]),
-                         five / ("frame" + std::to_string(i) + ".pcd"));
-    struct Job {
-      std::string name;
-      std::vector<std::string> args;
-    };
-    const std::vector<Job> jobs = {
-        {"`segment` learn0", {"segment", scene, "-o", (work / "lim").string()}},
-        {"`segment --paper-labels --threads 4` learn0",
-         {"segment", scene, "--paper-labels", "--threads", "4", "-o", (work / "lim").string()}},
-        {"`segment --batch` 5 frames, 2 at once",
-         {"segment", "--batch", five.string(), "--threads", "2", "-o",
-          (work / "lim-batch").string()}},
-        {"`recognize` learn0, 64 views",
-         {"recognize", scene, "--db", db.string(), "-o", (work / "lim-rec").string()}}};
-    std::vector<std::vector<std::string>> sweep(jobs.size());  // per job, per limit: its ending
-    std::vector<double> limits;
-    bool signalled = false;
-    for (double mib = sweep_from; mib <= sweep_to + 1e-9; mib += sweep_step) limits.push_back(mib);
-    for (std::size_t j = 0; j < jobs.size(); ++j)
-      for (const double mib : limits) {
-        fs::remove_all(work / "lim-batch");
-        const Run r = launch(cli, jobs[j].args, log, mib);
-        const std::string output = slurp(log);
-        const bool ok = WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0;
-        const bool failed =
-            WIFEXITED(r.status) && WEXITSTATUS(r.status) == 1 && !error_line(output).empty();
-        // Below what its shared libraries need, the dynamic loader stops before main: exit 127.
-        const bool unloaded =
-            WIFEXITED(r.status) && WEXITSTATUS(r.status) == 127 &&
-            output.find("error while loading shared libraries") != std::string::npos;
-        if (unloaded) {
-          sweep[j].push_back("127");
-          continue;
-        }
-        if (!ok && !failed) {
-          signalled = true;
-          std::cerr << "mem_bench: " << jobs[j].name << " at " << mib
-                    << " MiB: " << ending(r.status) << "\n"
-                    << output;
-        }
-        sweep[j].push_back(ok ? "0" : failed ? "1" : ending(r.status));
-        if (failed && !ok) sweep[j].back() += ": " + error_line(output);
-      }
-
-    std::ostringstream md;
-    md << "## Memory\n\nPeak resident set of the `proxseg` process (Linux `wait4`), and the "
-          "resident "
-          "set after each frame of a batch (`segment --batch`, the rows of its `summary.jsonl`). "
-       << "`make bench` fails if the batch grows by more than " << fixed(100 * max_growth)
-       << " % from frame " << cycle << " (each of the " << learn.size()
-       << " scenes seen once: the heap keeps what the largest needed) to frame " << frames
-       << ".\n\n"
-       << "| run | peak RSS (MiB) |\n|---|---:|\n"
-       << "| `segment` one 640x480 frame (mOSD learn0) | " << fixed(segment.peak_mib) << " |\n"
-       << "| `recognize` learn0 against 64 views (8 LINEMOD objects x 8) | "
-       << fixed(recognize.peak_mib) << " |\n"
-       << "| `segment --batch` " << frames << " frames (mOSD learn, cycled) | "
-       << fixed(batch.peak_mib) << " |\n\n"
-       << "Resident set during the batch (MiB): after frame 1 " << fixed(rss.front())
-       << ", frame 10 " << fixed(rss[std::min(9, frames - 1)]) << ", frame " << cycle << " "
-       << fixed(at_cycle) << ", frame " << frames / 2 << " " << fixed(rss[frames / 2 - 1])
-       << ", frame " << frames << " " << fixed(last) << ", highest " << fixed(max_rss)
-       << "; growth from frame " << cycle << " to " << frames << ": " << fixed(100 * growth, 1)
-       << " %.\n";
-    md << "\n### The estimate behind --max-memory\n\n`segment_memory_mib()` (an estimate from the "
-          "frame's size, checked before a frame starts) against the peak resident set of "
-          "`proxseg segment` on learn0 and learn0 upsampled 2x and 3x:\n\n"
-       << "| frame | paper labels | estimate (MiB) | peak RSS (MiB) | estimate / peak |\n"
-       << "|---|---|---:|---:|---:|\n";
-    for (const Estimate& e : estimates)
-      md << "| " << e.frame << " | " << (e.paper ? "yes" : "no") << " | " << fixed(e.estimate)
-         << " | " << fixed(e.peak) << " | " << fixed(e.estimate / e.peak, 2) << " |\n";
-    md << "\n### Address-space limits\n\nEach run under `ulimit -v` (RLIMIT_AS) from "
-       << fixed(sweep_from) << " to " << fixed(sweep_to) << " MiB in steps of " << fixed(sweep_step)
-       << " MiB: 0 = done, 1 = stopped with a message (the first is quoted), 127 = the dynamic "
-          "loader could not map the program's libraries (before proxseg runs), anything else (a "
-          "signal) is a failure of the benchmark.\n\n"
-       << "| run | limits | exit 0 | exit 1 | exit 127 | other | first message |\n"
-       << "|---|---:|---:|---:|---:|---:|---|\n";
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
-      std::size_t done = 0, stopped = 0, unloaded = 0;
-      std::string first;
-      for (const std::string& e : sweep[j]) {
-        done += e == "0";
-        unloaded += e == "127";
-        stopped += e == "1" || e.rfind("1: ", 0) == 0;
-        if (first.empty() && e.rfind("1: ", 0) == 0) first = e.substr(3);
-      }
-      md << "| " << jobs[j].name << " | " << limits.size() << " | " << done << " | " << stopped
-         << " | " << unloaded << " | " << limits.size() - done - stopped - unloaded << " | "
-         << first << " |\n";
-    }
-    std::ofstream(out) << md.str();
-    if (!json_out.empty())
-      std::ofstream(json_out) << nlohmann::json{
-          {"segment_peak_mib", segment.peak_mib},
-          {"recognize_64_views_peak_mib", recognize.peak_mib},
-          {"batch_peak_mib", batch.peak_mib},
-          {"batch_rss_mib", rss},
-          {"batch_growth", growth}}.dump(2);
-    std::cout << md.str();
-    if (growth > max_growth) {
-      std::cerr << "mem_bench: the batch grew by " << fixed(100 * growth, 1) << " %\n";
-      return 1;
-    }
-    if (under) {
-      std::cerr << "mem_bench: an estimate of --max-memory is below the peak it estimates\n";
-      return 1;
-    }
-    if (signalled) {
-      std::cerr << "mem_bench: a run under an address-space limit ended by a signal\n";
-      return 1;
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "mem_bench: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+  Options o;
+  add_options(app, o);
+  return proxseg::bench::main_of("mem_bench", app, argc, argv, [&] { return run_all(o); });
 }

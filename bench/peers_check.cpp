@@ -1,6 +1,7 @@
 // Runs the PCL peers (peers_pcl.hpp) on labelled mOSD scenes and prints, per scene and method,
 // the number of segments, labelled points, time and V-measure against the mOSD objects.
 // Usage: peers_check SCENE.pcd...
+#include "bench_main.hpp"
 #include "peers_pcl.hpp"
 
 #include <proxseg/eval/metrics.hpp>
@@ -14,11 +15,9 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: peers_check SCENE.pcd...\n");
-    return 2;
-  }
+namespace {
+
+int run(const std::vector<std::string>& scenes) {
   using Method = std::function<std::vector<std::uint32_t>(const proxseg::Frame&)>;
   const std::vector<std::pair<std::string, Method>> methods = {
       {"lccp", [](const proxseg::Frame& f) { return proxseg::peers::lccp(f); }},
@@ -28,17 +27,17 @@ int main(int argc, char** argv) {
   };
   std::printf("%-28s %-20s %8s %9s %9s %9s %7s %7s %7s\n", "scene", "method", "segments",
               "labelled", "valid", "ms", "V", "hom", "compl");
-  for (int a = 1; a < argc; ++a) {
+  for (const std::string& scene : scenes) {
     proxseg::Frame frame;
     try {
-      frame = proxseg::read_point_cloud(argv[a]);
+      frame = proxseg::read_point_cloud(scene);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s\n", e.what());
       return 1;
     }
     const std::vector<std::uint32_t> truth =
         frame.label.empty() ? std::vector<std::uint32_t>() : proxseg::mosd_objects(frame.label);
-    std::string name = argv[a];
+    std::string name = scene;
     if (const auto s = name.find_last_of('/'); s != std::string::npos) name = name.substr(s + 1);
     for (const auto& [method, run] : methods) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -65,4 +64,13 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"peers_check: the PCL peers on labelled mOSD scenes"};
+  std::vector<std::string> scenes;
+  app.add_option("scenes", scenes, "SCENE.pcd files")->required();
+  return proxseg::bench::main_of("peers_check", app, argc, argv, [&] { return run(scenes); });
 }

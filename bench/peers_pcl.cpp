@@ -189,6 +189,75 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame, const RegionGr
   return labels;
 }
 
+namespace {
+
+// The largest plane of `down` (SACSegmentation seeds its generators with 12345: reproducible).
+pcl::PointIndices::Ptr largest_plane(const pcl::PointCloud<pcl::PointXYZ>::Ptr& down,
+                                     const EuclideanParams& p) {
+  pcl::PointIndices::Ptr plane(new pcl::PointIndices);
+  if (down->size() < 3) return plane;
+  pcl::ModelCoefficients::Ptr coefficients(new pcl::ModelCoefficients);
+  pcl::SACSegmentation<pcl::PointXYZ> sac;
+  sac.setOptimizeCoefficients(true);
+  sac.setModelType(pcl::SACMODEL_PLANE);
+  sac.setMethodType(pcl::SAC_RANSAC);
+  sac.setMaxIterations(p.plane_max_iterations);
+  sac.setDistanceThreshold(p.plane_distance);
+  sac.setInputCloud(down);
+  sac.segment(*plane, *coefficients);
+  return plane;
+}
+
+// Euclidean clusters of the points of `down` still unlabelled, labelled 2, 3, ...
+void label_clusters(const pcl::PointCloud<pcl::PointXYZ>::Ptr& down, const EuclideanParams& p,
+                    std::vector<std::uint32_t>& down_label) {
+  pcl::IndicesPtr rest(new pcl::Indices);
+  for (std::size_t k = 0; k < down->size(); ++k)
+    if (down_label[k] == 0) rest->push_back(static_cast<pcl::index_t>(k));
+  if (rest->empty()) return;
+  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
+  tree->setInputCloud(down, rest);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(p.cluster_tolerance);
+  ec.setMinClusterSize(p.min_cluster_size);
+  ec.setMaxClusterSize(p.max_cluster_size);
+  ec.setSearchMethod(tree);
+  ec.setInputCloud(down);
+  ec.setIndices(rest);
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+  for (std::size_t c = 0; c < clusters.size(); ++c)
+    for (const auto k : clusters[c].indices)
+      down_label[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(c + 2);
+}
+
+// Every point of `cloud` (frame point idx[k]): the label of the nearest labelled point of `down`
+// within the cluster tolerance.
+void label_from_down(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                     const std::vector<std::size_t>& idx,
+                     const pcl::PointCloud<pcl::PointXYZ>& down,
+                     const std::vector<std::uint32_t>& down_label, float tolerance,
+                     std::vector<std::uint32_t>& labels) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr seeds(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<std::uint32_t> seed_label;
+  for (std::size_t k = 0; k < down.size(); ++k)
+    if (down_label[k]) {
+      seeds->push_back(down[k]);
+      seed_label.push_back(down_label[k]);
+    }
+  if (seeds->empty()) return;
+  pcl::KdTreeFLANN<pcl::PointXYZ> nearest;
+  nearest.setInputCloud(seeds);
+  pcl::Indices nn(1);
+  std::vector<float> d2(1);
+  const float r2 = tolerance * tolerance;
+  for (std::size_t k = 0; k < idx.size(); ++k)
+    if (nearest.nearestKSearch(cloud[k], 1, nn, d2) > 0 && d2[0] <= r2)
+      labels[idx[k]] = seed_label[static_cast<std::size_t>(nn[0])];
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& p,
                                      bool* plane_found) {
   quiet();
@@ -209,63 +278,12 @@ std::vector<std::uint32_t> euclidean(const Frame& frame, const EuclideanParams& 
 
   // Labels of the downsampled points: 1 = plane, 2.. = clusters (temporary ids), 0 = none.
   std::vector<std::uint32_t> down_label(down->size(), 0);
-
-  // The largest plane (SACSegmentation seeds its generators with 12345: reproducible).
-  pcl::PointIndices::Ptr plane(new pcl::PointIndices);
-  if (down->size() >= 3) {
-    pcl::ModelCoefficients::Ptr coefficients(new pcl::ModelCoefficients);
-    pcl::SACSegmentation<pcl::PointXYZ> sac;
-    sac.setOptimizeCoefficients(true);
-    sac.setModelType(pcl::SACMODEL_PLANE);
-    sac.setMethodType(pcl::SAC_RANSAC);
-    sac.setMaxIterations(p.plane_max_iterations);
-    sac.setDistanceThreshold(p.plane_distance);
-    sac.setInputCloud(down);
-    sac.segment(*plane, *coefficients);
-  }
+  const pcl::PointIndices::Ptr plane = largest_plane(down, p);
   const bool has_plane = !plane->indices.empty();
   if (plane_found) *plane_found = has_plane;
   for (const auto k : plane->indices) down_label[static_cast<std::size_t>(k)] = 1;
-
-  // Euclidean clusters of the rest.
-  pcl::IndicesPtr rest(new pcl::Indices);
-  for (std::size_t k = 0; k < down->size(); ++k)
-    if (down_label[k] == 0) rest->push_back(static_cast<pcl::index_t>(k));
-  if (!rest->empty()) {
-    pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
-    tree->setInputCloud(down, rest);
-    pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
-    ec.setClusterTolerance(p.cluster_tolerance);
-    ec.setMinClusterSize(p.min_cluster_size);
-    ec.setMaxClusterSize(p.max_cluster_size);
-    ec.setSearchMethod(tree);
-    ec.setInputCloud(down);
-    ec.setIndices(rest);
-    std::vector<pcl::PointIndices> clusters;
-    ec.extract(clusters);
-    for (std::size_t c = 0; c < clusters.size(); ++c)
-      for (const auto k : clusters[c].indices)
-        down_label[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(c + 2);
-  }
-
-  // Every valid point: the label of the nearest labelled downsampled point within tolerance.
-  pcl::PointCloud<pcl::PointXYZ>::Ptr seeds(new pcl::PointCloud<pcl::PointXYZ>);
-  std::vector<std::uint32_t> seed_label;
-  for (std::size_t k = 0; k < down->size(); ++k)
-    if (down_label[k]) {
-      seeds->push_back((*down)[k]);
-      seed_label.push_back(down_label[k]);
-    }
-  if (seeds->empty()) return labels;
-  pcl::KdTreeFLANN<pcl::PointXYZ> nearest;
-  nearest.setInputCloud(seeds);
-  pcl::Indices nn(1);
-  std::vector<float> d2(1);
-  const float r2 = p.cluster_tolerance * p.cluster_tolerance;
-  for (std::size_t k = 0; k < idx.size(); ++k)
-    if (nearest.nearestKSearch((*cloud)[k], 1, nn, d2) > 0 && d2[0] <= r2)
-      labels[idx[k]] = seed_label[static_cast<std::size_t>(nn[0])];
-
+  label_clusters(down, p, down_label);
+  label_from_down(*cloud, idx, *down, down_label, p.cluster_tolerance, labels);
   if (has_plane)
     renumber(labels, {{1u, 1u}}, 2);
   else

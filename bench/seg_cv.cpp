@@ -11,7 +11,9 @@
 //            product; dotted paths into the layout of the report's "parameters"). Every variant is
 //            read on top of preset default. A sweep value that is itself a list goes in a list of
 //            lists ([[...], [...]]); a single non-list value is a sweep of one.
+#include "bench_main.hpp"
 #include "bench_util.hpp"
+#include "scene_list.hpp"
 
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/cross_validation.hpp>
@@ -31,6 +33,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -38,10 +41,15 @@ namespace {
 
 using proxseg::InputError;
 
+using proxseg::bench::Clock;
+using proxseg::bench::git_commit;
+using proxseg::bench::scenes_of;
+using proxseg::bench::SceneSet;
+using proxseg::bench::seconds_since;
+
+// v with three digits after the point, or `digits`.
 std::string fmt(double v, int digits = 3) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
+  return proxseg::bench::fixed(v, digits);
 }
 
 struct Variant {
@@ -130,16 +138,6 @@ std::vector<Variant> read_grid(const std::string& path, int threads) {
   return variants;
 }
 
-std::vector<std::filesystem::path> scenes_of(const std::string& dir, int limit) {
-  std::vector<std::filesystem::path> files = proxseg::scene_files(dir);
-  if (limit > 0 && static_cast<int>(files.size()) > limit) {
-    std::vector<std::filesystem::path> spread;
-    for (int i = 0; i < limit; ++i) spread.push_back(files[i * files.size() / limit]);
-    files = spread;
-  }
-  return files;
-}
-
 struct Scene {
   std::string name, set, category, fold;
   std::vector<proxseg::SceneScores> scores;  // per variant
@@ -169,141 +167,146 @@ ScopeScore score_scope(const std::vector<Scene>& scenes,
   return s;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Cross-validated choice of proxseg's segmentation parameters"};
+struct Options {
   std::string data, clutter, grid_path, out, json_path, csv;
   std::string title = "Cross-validated segmentation parameters";
   int limit = 0, threads = 0;
-  app.add_option("--data", data, "Folder of labelled mOSD learn scenes")->required();
-  app.add_option("--clutter", clutter, "Folder of the generated clutter set (optional)");
-  app.add_option("--grid", grid_path, "Grid JSON: {\"variants\": {...}} or {\"sweep\": {...}}")
+};
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("--data", o.data, "Folder of labelled mOSD learn scenes")->required();
+  app.add_option("--clutter", o.clutter, "Folder of the generated clutter set (optional)");
+  app.add_option("--grid", o.grid_path, "Grid JSON: {\"variants\": {...}} or {\"sweep\": {...}}")
       ->required();
-  app.add_option("--out", out, "Markdown report to write (also printed on stdout)");
-  app.add_option("--title", title, "Heading of the markdown report");
-  app.add_option("--json", json_path, "JSON report to write");
-  app.add_option("--csv", csv, "Per-scene, per-variant scores (CSV) to write");
-  app.add_option("--scenes", limit, "Use only N scenes of each set, spread evenly (0 = all)");
-  app.add_option("--threads", threads, "Threads for proxseg (0 = all cores)");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--out", o.out, "Markdown report to write (also printed on stdout)");
+  app.add_option("--title", o.title, "Heading of the markdown report");
+  app.add_option("--json", o.json_path, "JSON report to write");
+  app.add_option("--csv", o.csv, "Per-scene, per-variant scores (CSV) to write");
+  app.add_option("--scenes", o.limit, "Use only N scenes of each set, spread evenly (0 = all)");
+  app.add_option("--threads", o.threads, "Threads for proxseg (0 = all cores)");
+}
 
+// What a run measured: every variant on every labelled scene, and the folds' choices.
+struct Run {
   std::vector<Variant> variants;
-  struct Set {
-    std::string name;
-    std::vector<std::filesystem::path> files;
-  };
-  std::vector<Set> sets;
-  try {
-    variants = read_grid(grid_path, threads);
-    sets.push_back({"mOSD learn", scenes_of(data, limit)});
-    if (!clutter.empty()) sets.push_back({"generated", scenes_of(clutter, limit)});
-  } catch (const InputError& e) {
-    std::cerr << "seg_cv: " << e.what() << "\n";
-    return 1;
-  }
-  std::size_t total = 0;
-  for (const auto& s : sets) total += s.files.size();
-  std::cerr << "seg_cv: " << variants.size() << " variants x " << total << " scenes\n";
-
-  // Every variant once on every scene, scenes one after the other (proxseg uses the cores).
+  std::vector<SceneSet> sets;
   std::vector<Scene> scenes;
-  std::size_t step = 0;
-  const auto started = std::chrono::steady_clock::now();
-  for (const auto& set : sets)
-    for (const auto& file : set.files) {
-      ++step;
-      const proxseg::Frame frame = proxseg::read_pcd(file.string());
-      Scene sc;
-      sc.name = file.filename().string();
-      sc.set = set.name;
-      if (frame.label.empty()) {
-        std::cerr << "[" << step << "/" << total << "] " << sc.name
-                  << " (no label field, skipped)\n";
-        continue;
-      }
-      // Generated scenes (clutter-, piles-, occlusion-NNN.pcd): their kind in halves by seed
-      // parity; mOSD learn scenes: their category.
-      sc.category = proxseg::scene_category(sc.name);
-      sc.fold = proxseg::scene_fold(sc.name);
-      if (set.name == "generated" && sc.category == "other") sc.category = sc.fold = "clutter";
-      std::ostringstream line;
-      for (const auto& v : variants) {
-        const auto start = std::chrono::steady_clock::now();
-        const auto labels = proxseg::segment(frame, v.params).selection.instance;
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        proxseg::SceneScores s = proxseg::score_scene(frame, labels);
-        s.scene = sc.name;
-        s.category = sc.category;
-        s.method = v.name;
-        s.seconds = seconds;
-        line << " " << fmt(s.objects.object_f);
-        sc.scores.push_back(s);
-      }
-      std::cerr << "[" << step << "/" << total << "] " << set.name << ": " << sc.name << " ("
-                << sc.fold << ") F" << line.str() << "\n";
-      scenes.push_back(std::move(sc));
-    }
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
-  std::vector<std::vector<double>> f(scenes.size());
-  std::vector<std::string> fold_of(scenes.size());
-  for (std::size_t i = 0; i < scenes.size(); ++i) {
-    for (const auto& s : scenes[i].scores) f[i].push_back(s.objects.object_f);
-    fold_of[i] = scenes[i].fold;
-  }
+  double elapsed = 0;                  // seconds
+  std::vector<std::vector<double>> f;  // [scene][variant]: object F
   proxseg::CrossValidation cv;
-  try {
-    cv = proxseg::cross_validate(f, fold_of);
-  } catch (const proxseg::InputError& e) {
-    std::cerr << "seg_cv: " << e.what() << " (" << scenes.size()
-              << " labelled scenes; use more scenes so that at least two folds have some)\n";
-    return 1;
-  }
-  const std::size_t nv = variants.size(), nf = cv.folds.size();
-  const auto cv_variant = [&](std::size_t i) { return cv.scene_variant[i]; };
-  const auto best_variant = [&](std::size_t) { return cv.best_in_sample; };
+};
 
-  // Scopes of the result table: all scenes, each set, each mOSD category.
-  std::vector<std::pair<std::string, std::function<bool(const Scene&)>>> scopes = {
-      {"all", [](const Scene&) { return true; }}};
-  for (const auto& set : sets)
-    if (sets.size() > 1)
+// Every variant on one scene file (nothing when it has no labels).
+std::optional<Scene> run_scene(const SceneSet& set, const std::filesystem::path& file,
+                               const std::vector<Variant>& variants, const std::string& step) {
+  const proxseg::Frame frame = proxseg::read_pcd(file.string());
+  Scene sc;
+  sc.name = file.filename().string();
+  sc.set = set.name;
+  if (frame.label.empty()) {
+    std::cerr << step << sc.name << " (no label field, skipped)\n";
+    return std::nullopt;
+  }
+  // Generated scenes (clutter-, piles-, occlusion-NNN.pcd): their kind in halves by seed
+  // parity; mOSD learn scenes: their category.
+  sc.category = proxseg::scene_category(sc.name);
+  sc.fold = proxseg::scene_fold(sc.name);
+  if (set.name == "generated" && sc.category == "other") sc.category = sc.fold = "clutter";
+  std::ostringstream line;
+  for (const auto& v : variants) {
+    const auto start = Clock::now();
+    const auto labels = proxseg::segment(frame, v.params).selection.instance;
+    const double seconds = seconds_since(start);
+    proxseg::SceneScores s = proxseg::score_scene(frame, labels);
+    s.scene = sc.name;
+    s.category = sc.category;
+    s.method = v.name;
+    s.seconds = seconds;
+    line << " " << fmt(s.objects.object_f);
+    sc.scores.push_back(s);
+  }
+  std::cerr << step << set.name << ": " << sc.name << " (" << sc.fold << ") F" << line.str()
+            << "\n";
+  return sc;
+}
+
+// Every variant once on every scene, scenes one after the other (proxseg uses the cores); then
+// the folds' choices.
+void run_variants(Run& r) {
+  std::size_t total = 0;
+  for (const auto& s : r.sets) total += s.files.size();
+  std::cerr << "seg_cv: " << r.variants.size() << " variants x " << total << " scenes\n";
+  std::size_t step = 0;
+  const auto started = Clock::now();
+  for (const auto& set : r.sets)
+    for (const auto& file : set.files) {
+      const std::string at = "[" + std::to_string(++step) + "/" + std::to_string(total) + "] ";
+      if (auto sc = run_scene(set, file, r.variants, at)) r.scenes.push_back(std::move(*sc));
+    }
+  r.elapsed = seconds_since(started);
+  r.f.resize(r.scenes.size());
+  std::vector<std::string> fold_of(r.scenes.size());
+  for (std::size_t i = 0; i < r.scenes.size(); ++i) {
+    for (const auto& s : r.scenes[i].scores) r.f[i].push_back(s.objects.object_f);
+    fold_of[i] = r.scenes[i].fold;
+  }
+  try {
+    r.cv = proxseg::cross_validate(r.f, fold_of);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (" + std::to_string(r.scenes.size()) +
+                     " labelled scenes; use more scenes so that at least two folds have some)");
+  }
+}
+
+using Scopes = std::vector<std::pair<std::string, std::function<bool(const Scene&)>>>;
+
+// Scopes of the result table: all scenes, each set, each mOSD category.
+Scopes scopes_of(const Run& r) {
+  Scopes scopes = {{"all", [](const Scene&) { return true; }}};
+  for (const auto& set : r.sets)
+    if (r.sets.size() > 1)
       scopes.emplace_back(set.name, [name = set.name](const Scene& s) { return s.set == name; });
   for (const std::string c :
        {"boxes", "stacked", "occluded", "cylindric", "other", "clutter", "piles", "occlusion"})
-    if (std::any_of(scenes.begin(), scenes.end(), [&](const Scene& s) { return s.category == c; }))
+    if (std::any_of(r.scenes.begin(), r.scenes.end(),
+                    [&](const Scene& s) { return s.category == c; }))
       scopes.emplace_back(c, [c](const Scene& s) { return s.category == c; });
+  return scopes;
+}
 
-  std::ostringstream md;
-  md << "## " << title << "\n\n"
-     << "Generated by `bench/seg_cv` at commit " << proxseg::bench::git_commit() << " from `"
-     << grid_path << "`: " << nv << " variants (each on top of preset default) on ";
-  for (std::size_t i = 0; i < sets.size(); ++i) {
+void md_header(std::ostream& md, const Options& o, const Run& r) {
+  md << "## " << o.title << "\n\n"
+     << "Generated by `bench/seg_cv` at commit " << git_commit() << " from `" << o.grid_path
+     << "`: " << r.variants.size() << " variants (each on top of preset default) on ";
+  for (std::size_t i = 0; i < r.sets.size(); ++i) {
     int n = 0;
-    for (const auto& s : scenes) n += s.set == sets[i].name;
-    md << (i ? " and " : "") << n << " " << sets[i].name << " scenes";
+    for (const auto& s : r.scenes) n += s.set == r.sets[i].name;
+    md << (i ? " and " : "") << n << " " << r.sets[i].name << " scenes";
   }
-  md << " (" << fmt(elapsed / 60, 1) << " min). Folds: leave one mOSD category out"
-     << (sets.size() > 1
+  md << " (" << fmt(r.elapsed / 60, 1) << " min). Folds: leave one mOSD category out"
+     << (r.sets.size() > 1
              ? "; each generated kind (clutter, piles, occlusion) in two halves by seed parity"
              : "")
      << ". For each fold the variant with the best mean object F on all other scenes is chosen "
         "(ties -> the first) and scored on the fold.\n\n";
+}
 
+// The result table per scope, cross-validated and in-sample; report["cross_validated"] and
+// report["in_sample"].
+void result(std::ostream& md, const Run& r, nlohmann::json& report) {
+  const auto cv_variant = [&](std::size_t i) { return r.cv.scene_variant[i]; };
+  const auto best_variant = [&](std::size_t) { return r.cv.best_in_sample; };
   md << "### Result\n\n"
      << "Cross-validated: every scene scored under the variant chosen without its fold. In-sample: "
         "the variant with the best mean object F over all scenes (`"
-     << variants[cv.best_in_sample].name
+     << r.variants[r.cv.best_in_sample].name
      << "`), scored on the same scenes it was chosen on (optimistic).\n\n"
      << "| scenes in | scenes | CV object F | CV lost in bg | in-sample object F | in-sample lost "
         "in bg |\n|---|---|---|---|---|---|\n";
   nlohmann::json j_cv = nlohmann::json::object(), j_in = nlohmann::json::object();
-  for (const auto& [label, in] : scopes) {
-    const ScopeScore c = score_scope(scenes, in, cv_variant),
-                     b = score_scope(scenes, in, best_variant);
+  for (const auto& [label, in] : scopes_of(r)) {
+    const ScopeScore c = score_scope(r.scenes, in, cv_variant),
+                     b = score_scope(r.scenes, in, best_variant);
     md << "| " << label << " | " << c.scenes << " | " << fmt(c.f) << " | " << fmt(c.lost_share)
        << " | " << fmt(b.f) << " | " << fmt(b.lost_share) << " |\n";
     j_cv[label] = {
@@ -311,84 +314,120 @@ int main(int argc, char** argv) {
     j_in[label] = {
         {"scenes", b.scenes}, {"object_f", b.f}, {"lost_in_background_share", b.lost_share}};
   }
+  report["cross_validated"] = j_cv;
+  report["in_sample"] = {{"variant", r.variants[r.cv.best_in_sample].name}, {"scopes", j_in}};
+}
 
+// The folds' chosen variants; report["folds"].
+void folds(std::ostream& md, const Run& r, nlohmann::json& report) {
   md << "\n### Folds\n\n| fold | scenes | chosen variant | training F | held-out F |\n"
      << "|---|---|---|---|---|\n";
   nlohmann::json j_folds = nlohmann::json::array();
-  for (std::size_t k = 0; k < nf; ++k) {
-    md << "| " << cv.folds[k] << " | " << cv.fold_scenes[k] << " | " << variants[cv.chosen[k]].name
-       << " | " << fmt(cv.training[k]) << " | " << fmt(cv.held_out[k]) << " |\n";
-    j_folds.push_back({{"fold", cv.folds[k]},
-                       {"scenes", cv.fold_scenes[k]},
-                       {"chosen", variants[cv.chosen[k]].name},
-                       {"training_object_f", cv.training[k]},
-                       {"held_out_object_f", cv.held_out[k]}});
+  for (std::size_t k = 0; k < r.cv.folds.size(); ++k) {
+    const std::string& chosen = r.variants[r.cv.chosen[k]].name;
+    md << "| " << r.cv.folds[k] << " | " << r.cv.fold_scenes[k] << " | " << chosen << " | "
+       << fmt(r.cv.training[k]) << " | " << fmt(r.cv.held_out[k]) << " |\n";
+    j_folds.push_back({{"fold", r.cv.folds[k]},
+                       {"scenes", r.cv.fold_scenes[k]},
+                       {"chosen", chosen},
+                       {"training_object_f", r.cv.training[k]},
+                       {"held_out_object_f", r.cv.held_out[k]}});
   }
+  report["folds"] = j_folds;
+}
 
+// Every variant's mean object F per fold, and its overrides; report["variants"].
+void variants_table(std::ostream& md, const Run& r, nlohmann::json& report) {
+  const std::size_t nv = r.variants.size(), nf = r.cv.folds.size();
   md << "\n### Mean object F of every variant per fold\n\n| variant |";
-  for (const auto& fold : cv.folds) md << " " << fold << " |";
+  for (const auto& fold : r.cv.folds) md << " " << fold << " |";
   md << " all | lost in bg | s/frame |\n|---|";
   for (std::size_t k = 0; k < nf + 3; ++k) md << "---|";
   md << "\n";
   nlohmann::json j_variants = nlohmann::json::array();
   for (std::size_t v = 0; v < nv; ++v) {
     const ScopeScore all = score_scope(
-        scenes, [](const Scene&) { return true; },
+        r.scenes, [](const Scene&) { return true; },
         [v](std::size_t) { return static_cast<int>(v); });
     double seconds = 0;
-    for (const auto& s : scenes) seconds += s.scores[v].seconds / scenes.size();
-    md << "| " << variants[v].name << (static_cast<int>(v) == cv.best_in_sample ? " (best)" : "")
-       << " |";
+    for (const auto& s : r.scenes) seconds += s.scores[v].seconds / r.scenes.size();
+    md << "| " << r.variants[v].name
+       << (static_cast<int>(v) == r.cv.best_in_sample ? " (best)" : "") << " |";
     nlohmann::json per_fold = nlohmann::json::object();
     for (std::size_t k = 0; k < nf; ++k) {
-      md << " " << fmt(cv.fold_means[k][v]) << " |";
-      per_fold[cv.folds[k]] = cv.fold_means[k][v];
+      md << " " << fmt(r.cv.fold_means[k][v]) << " |";
+      per_fold[r.cv.folds[k]] = r.cv.fold_means[k][v];
     }
-    md << " " << fmt(cv.variant_means[v]) << " | " << fmt(all.lost_share) << " | " << fmt(seconds)
+    md << " " << fmt(r.cv.variant_means[v]) << " | " << fmt(all.lost_share) << " | " << fmt(seconds)
        << " |\n";
-    j_variants.push_back({{"name", variants[v].name},
-                          {"overrides", variants[v].overrides},
-                          {"object_f", cv.variant_means[v]},
+    j_variants.push_back({{"name", r.variants[v].name},
+                          {"overrides", r.variants[v].overrides},
+                          {"object_f", r.cv.variant_means[v]},
                           {"object_f_per_fold", per_fold},
                           {"lost_in_background_share", all.lost_share},
                           {"seconds_per_frame", seconds}});
   }
   md << "\nVariants (overrides of preset default):\n\n";
-  for (const auto& v : variants) md << "- `" << v.name << "`: `" << v.overrides.dump() << "`\n";
+  for (const auto& v : r.variants) md << "- `" << v.name << "`: `" << v.overrides.dump() << "`\n";
+  report["variants"] = j_variants;
+}
 
+nlohmann::json scenes_json(const Run& r) {
   nlohmann::json j_scenes = nlohmann::json::array();
-  for (std::size_t i = 0; i < scenes.size(); ++i) {
+  for (std::size_t i = 0; i < r.scenes.size(); ++i) {
     nlohmann::json per_variant = nlohmann::json::object();
-    for (std::size_t v = 0; v < nv; ++v) per_variant[variants[v].name] = f[i][v];
-    j_scenes.push_back({{"scene", scenes[i].name},
-                        {"set", scenes[i].set},
-                        {"fold", scenes[i].fold},
-                        {"chosen", variants[cv.scene_variant[i]].name},
-                        {"held_out_object_f", cv.scene_score[i]},
+    for (std::size_t v = 0; v < r.variants.size(); ++v) per_variant[r.variants[v].name] = r.f[i][v];
+    j_scenes.push_back({{"scene", r.scenes[i].name},
+                        {"set", r.scenes[i].set},
+                        {"fold", r.scenes[i].fold},
+                        {"chosen", r.variants[r.cv.scene_variant[i]].name},
+                        {"held_out_object_f", r.cv.scene_score[i]},
                         {"object_f", per_variant}});
   }
-  const nlohmann::json report = {
-      {"grid", grid_path},
-      {"commit", proxseg::bench::git_commit()},
-      {"criterion", "object_f"},
-      {"variants", j_variants},
-      {"folds", j_folds},
-      {"cross_validated", j_cv},
-      {"in_sample", {{"variant", variants[cv.best_in_sample].name}, {"scopes", j_in}}},
-      {"scenes", j_scenes}};
+  return j_scenes;
+}
 
-  std::cout << md.str();
+// The report on stdout, and the files asked for.
+int write_outputs(const Options& o, const Run& r, const std::string& md,
+                  const nlohmann::json& report) {
+  std::cout << md;
   try {
-    if (!out.empty()) proxseg::write_file_atomic(out, md.str());
-    if (!json_path.empty()) proxseg::write_file_atomic(json_path, report.dump(2) + "\n");
-    if (!csv.empty()) {
+    if (!o.out.empty()) proxseg::write_file_atomic(o.out, md);
+    if (!o.json_path.empty()) proxseg::write_file_atomic(o.json_path, report.dump(2) + "\n");
+    if (!o.csv.empty()) {
       std::vector<proxseg::SceneScores> all;
-      for (const auto& s : scenes) all.insert(all.end(), s.scores.begin(), s.scores.end());
-      proxseg::write_file_atomic(csv, proxseg::scenes_csv(all));
+      for (const auto& s : r.scenes) all.insert(all.end(), s.scores.begin(), s.scores.end());
+      proxseg::write_file_atomic(o.csv, proxseg::scenes_csv(all));
     }
   } catch (const std::exception& e) {
     std::cerr << "seg_cv: " << e.what() << "\n";
     return 1;
   }
   return 0;
+}
+
+int run(const Options& o) {
+  Run r;
+  r.variants = read_grid(o.grid_path, o.threads);
+  r.sets.push_back({"mOSD learn", scenes_of(o.data, o.limit)});
+  if (!o.clutter.empty()) r.sets.push_back({"generated", scenes_of(o.clutter, o.limit)});
+  run_variants(r);
+  std::ostringstream md;
+  nlohmann::json report = {
+      {"grid", o.grid_path}, {"commit", git_commit()}, {"criterion", "object_f"}};
+  md_header(md, o, r);
+  result(md, r, report);
+  folds(md, r, report);
+  variants_table(md, r, report);
+  report["scenes"] = scenes_json(r);
+  return write_outputs(o, r, md.str(), report);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cross-validated choice of proxseg's segmentation parameters"};
+  Options o;
+  add_options(app, o);
+  return proxseg::bench::main_of("seg_cv", app, argc, argv, [&] { return run(o); });
 }

@@ -10,6 +10,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <string>
+#include <vector>
+
+#include "bench_main.hpp"
 
 namespace {
 // "ycbv:BASE" reads BASE-color/depth/meta/label; anything else is a labelled mOSD PCD.
@@ -42,18 +45,12 @@ int apart(const std::vector<std::uint32_t>& truth, const std::vector<std::uint32
   for (auto& [t, l] : m) n += t != 1 && l != m[1];
   return n;
 }
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr, "usage: seg_sweep JSON scene.pcd...\n");
-    return 2;
-  }
-  const proxseg::SegmentParams params = proxseg::params_from_json(nlohmann::json::parse(argv[1]));
+int run(const std::string& json, const std::vector<std::string>& scenes) {
+  const proxseg::SegmentParams params = proxseg::params_from_json(nlohmann::json::parse(json));
   double sum_km = 0, sum_mrf = 0, sum_k = 0, sum_c = 0, sum_ms = 0;
-  for (int a = 2; a < argc; ++a) {
+  for (const std::string& scene : scenes) {
     std::vector<std::uint32_t> truth;
-    const proxseg::Frame frame = load(argv[a], truth);
+    const proxseg::Frame frame = load(scene, truth);
     const proxseg::SegmentResult r = proxseg::segment(frame, params);
     std::vector<std::uint32_t> km(frame.size(), 0);
     for (std::size_t p = 0; p < frame.size(); ++p) {
@@ -68,14 +65,27 @@ int main(int argc, char** argv) {
                  vm = proxseg::v_measure(truth, r.point_labels).v;
     double ms = 0;
     for (const auto& t : r.times_ms) ms += t.second;
-    std::printf("%-40s C=%3zu k=%3d V_kmeans=%.3f V_mrf=%.3f apart=%d/%d %.0f ms\n", argv[a],
+    std::printf("%-40s C=%3zu k=%3d V_kmeans=%.3f V_mrf=%.3f apart=%d/%d %.0f ms\n", scene.c_str(),
                 r.initial_centroids.size(), r.k(), vk, vm, apart(truth, r.point_labels),
                 static_cast<int>(std::set<std::uint32_t>(truth.begin(), truth.end()).size()) - 2,
                 ms);
     sum_km += vk, sum_mrf += vm, sum_k += r.k(), sum_c += r.initial_centroids.size(), sum_ms += ms;
   }
-  const int n = argc - 2;
+  const int n = static_cast<int>(scenes.size());
   std::printf("MEAN C=%.1f k=%.1f V_kmeans=%.3f V_mrf=%.3f %.0f ms\n", sum_c / n, sum_k / n,
               sum_km / n, sum_mrf / n, sum_ms / n);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"seg_sweep: segment() on scenes with a JSON override: k and V-measure"};
+  std::string json;
+  std::vector<std::string> scenes;
+  app.add_option("json", json,
+                 "Parameter overrides, e.g. '{\"clustering\":{\"prior_weight\":100}}'")
+      ->required();
+  app.add_option("scenes", scenes, "scene.pcd files, or ycbv:BASE")->required();
+  return proxseg::bench::main_of("seg_sweep", app, argc, argv, [&] { return run(json, scenes); });
 }

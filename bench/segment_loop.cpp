@@ -13,15 +13,14 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::cerr << "usage: segment_loop SCENE.pcd... (then scene indices on stdin)\n";
-    return 2;
-  }
-  proxseg::keep_freed_memory();  // as the README asks of programs that segment frame after frame
+#include "bench_main.hpp"
+
+namespace {
+
+int run(const std::vector<std::string>& scenes) {
   const proxseg::SegmentParams params = proxseg::preset("default");
   std::vector<proxseg::Frame> frames;
-  for (int a = 1; a < argc; ++a) frames.push_back(proxseg::read_point_cloud(argv[a]));
+  for (const std::string& scene : scenes) frames.push_back(proxseg::read_point_cloud(scene));
   std::size_t i = 0;
   while (std::cin >> i) {
     if (i >= frames.size()) return 2;
@@ -32,4 +31,14 @@ int main(int argc, char** argv) {
     std::cout << ms << " " << result.total_ms << " " << result.k() << std::endl;  // flushed
   }
   return 0;
+}
+
+}  // namespace
+
+// main_of keeps freed memory, as the README asks of programs that segment frame after frame.
+int main(int argc, char** argv) {
+  CLI::App app{"segment_loop: segment() on the scenes whose indices come on stdin, ms per call"};
+  std::vector<std::string> scenes;
+  app.add_option("scenes", scenes, "SCENE.pcd files (then scene indices on stdin)")->required();
+  return proxseg::bench::main_of("segment_loop", app, argc, argv, [&] { return run(scenes); });
 }

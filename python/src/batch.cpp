@@ -61,9 +61,8 @@ py::list to_list(const std::vector<FrameSource>& frames) {
   return out;
 }
 
-}  // namespace
-
-void bind_batch(py::module_& m) {
+// The frames of a batch: found, segmented, recognised.
+void bind_batch_frames(py::module_& m) {
   m.def(
       "_discover_frames",
       [](const std::vector<std::string>& sources, const std::string& colour,
@@ -139,6 +138,10 @@ void bind_batch(py::module_& m) {
       },
       py::arg("frame"), py::arg("out_dir"), py::arg("outputs"), py::arg("segmentation"),
       py::arg("recognition"), py::arg("db"), py::arg("db_dir"), py::arg("load_ms"));
+}
+
+// The logs of a batch, its outputs and the resident set.
+void bind_batch_logs(py::module_& m) {
   m.def(
       "_canonical_outputs",
       [](const std::string& outputs) { return to_string(parse_outputs(outputs)); },
@@ -183,6 +186,13 @@ void bind_batch(py::module_& m) {
           py::arg("row"))
       .def("close", &SummaryLog::close, py::arg("interrupted"), py::arg("peak_rss_mib"))
       .def_property_readonly("path", &SummaryLog::path);
+}
+
+}  // namespace
+
+void bind_batch(py::module_& m) {
+  bind_batch_frames(m);
+  bind_batch_logs(m);
 }
 
 }  // namespace proxseg::python

@@ -42,10 +42,9 @@ py::dict view_dict(const ViewInfo& v) {
                   py::arg("coloured") = v.coloured);
 }
 
-}  // namespace
-
-void bind_database(py::module_& m) {
-  py::class_<SharedDatabase>(m, "_Database")
+// The class, its constructor, what it holds and its size.
+py::class_<SharedDatabase> database_class(py::module_& m) {
+  return py::class_<SharedDatabase>(m, "_Database")
       .def(py::init([](const std::string& path, bool create, double voxel_size,
                        double normal_radius, const std::vector<double>& fpfh_radii) {
              py::gil_scoped_release release;
@@ -64,49 +63,56 @@ void bind_database(py::module_& m) {
                              [](const SharedDatabase& d) { return d.snapshot()->objects(); })
       .def_property_readonly("damaged",
                              [](const SharedDatabase& d) { return d.snapshot()->damaged; })
-      .def("__len__", [](const SharedDatabase& d) { return d.snapshot()->views.size(); })
-      .def("view",
-           [](const SharedDatabase& d, std::int64_t i) {
-             const auto db = d.snapshot();
-             if (i < 0 || i >= static_cast<std::int64_t>(db->views.size()))
-               throw py::index_error("view " + std::to_string(i) + ": the database has " +
-                                     std::to_string(db->views.size()) + " views");
-             const ModelView& v = db->views[i];
-             std::vector<float> xyz;
-             {
-               py::gil_scoped_release release;  // a stored view's body is read here
-               const Cloud& c = v.cloud();
-               xyz.reserve(c.points.size() * 3);
-               for (const auto& p : c.points)
-                 for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
-             }
-             py::dict out = view_dict(view_info(v));
-             const auto n = static_cast<py::ssize_t>(xyz.size() / 3);
-             out["xyz"] = to_numpy(std::move(xyz), {n, 3});
-             return out;
-           })
+      .def("__len__", [](const SharedDatabase& d) { return d.snapshot()->views.size(); });
+}
+
+// Reading the views, the summary and the check.
+void add_database_reads(py::class_<SharedDatabase>& cls) {
+  cls.def("view",
+          [](const SharedDatabase& d, std::int64_t i) {
+            const auto db = d.snapshot();
+            if (i < 0 || i >= static_cast<std::int64_t>(db->views.size()))
+              throw py::index_error("view " + std::to_string(i) + ": the database has " +
+                                    std::to_string(db->views.size()) + " views");
+            const ModelView& v = db->views[i];
+            std::vector<float> xyz;
+            {
+              py::gil_scoped_release release;  // a stored view's body is read here
+              const Cloud& c = v.cloud();
+              xyz.reserve(c.points.size() * 3);
+              for (const auto& p : c.points)
+                for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
+            }
+            py::dict out = view_dict(view_info(v));
+            const auto n = static_cast<py::ssize_t>(xyz.size() / 3);
+            out["xyz"] = to_numpy(std::move(xyz), {n, 3});
+            return out;
+          })
       .def("info",
            [](const SharedDatabase& d) { return json_to_python(database_info(*d.snapshot())); })
-      .def("check",
-           [](const SharedDatabase& d) {
-             DatabaseCheck c;
-             {
-               py::gil_scoped_release release;
-               c = check_database(d.snapshot()->dir);
-             }
-             py::dict out;
-             out["views"] = c.views;
-             out["whole"] = c.whole;
-             out["damaged"] = c.damaged;
-             return out;
-           })
-      .def(
-          "remove",
-          [](SharedDatabase& d, const std::string& object) {
-            py::gil_scoped_release release;
-            return d.change([&](Database& db) { return remove_object(db, object); });
-          },
-          py::arg("object"))
+      .def("check", [](const SharedDatabase& d) {
+        DatabaseCheck c;
+        {
+          py::gil_scoped_release release;
+          c = check_database(d.snapshot()->dir);
+        }
+        py::dict out;
+        out["views"] = c.views;
+        out["whole"] = c.whole;
+        out["damaged"] = c.damaged;
+        return out;
+      });
+}
+
+// Changing the database: removing, renaming, adding objects.
+void add_database_changes(py::class_<SharedDatabase>& cls) {
+  cls.def(
+         "remove",
+         [](SharedDatabase& d, const std::string& object) {
+           py::gil_scoped_release release;
+           return d.change([&](Database& db) { return remove_object(db, object); });
+         },
+         py::arg("object"))
       .def(
           "rename",
           [](SharedDatabase& d, const std::string& from, const std::string& to) {
@@ -169,6 +175,14 @@ void bind_database(py::module_& m) {
           },
           py::arg("object"), py::arg("mesh"), py::arg("scale"), py::arg("views"),
           py::arg("distance"), py::arg("depth_noise"), py::arg("seed"));
+}
+
+}  // namespace
+
+void bind_database(py::module_& m) {
+  py::class_<SharedDatabase> cls = database_class(m);
+  add_database_reads(cls);
+  add_database_changes(cls);
 }
 
 }  // namespace proxseg::python

@@ -152,10 +152,39 @@ Frame frame_from_rgbd(const py::object& colour, const py::array& depth,
   return frame;
 }
 
-}  // namespace
+// A frame as picklable state: (xyz, rgb, label, width, height), plain arrays and numbers.
+py::tuple frame_state(const Frame& f) {
+  py::object label = py::none();
+  if (!f.label.empty())
+    label =
+        to_numpy(std::vector<std::uint32_t>(f.label), {static_cast<py::ssize_t>(f.label.size())});
+  py::bytes xyz(reinterpret_cast<const char*>(f.xyz.data()), f.xyz.size() * 12);
+  py::bytes rgb(reinterpret_cast<const char*>(f.rgb.data()), f.rgb.size() * 3);
+  return py::make_tuple(xyz, rgb, label, f.width, f.height);
+}
 
-void bind_frame(py::module_& m) {
-  py::class_<Frame>(m, "Frame", R"doc(
+// The frame of frame_state()'s tuple.
+Frame frame_from_state(const py::tuple& t) {
+  if (t.size() != 5) throw InputError("Frame: not a pickled proxseg.Frame");
+  Frame f;
+  const std::string xyz = t[0].cast<std::string>(), rgb = t[1].cast<std::string>();
+  f.width = t[3].cast<int>();
+  f.height = t[4].cast<int>();
+  if (xyz.size() % 12 != 0 || rgb.size() % 3 != 0 ||
+      (!rgb.empty() && rgb.size() / 3 != xyz.size() / 12) ||
+      static_cast<std::size_t>(f.width) * f.height != xyz.size() / 12)
+    throw InputError("Frame: not a pickled proxseg.Frame (sizes do not agree)");
+  f.xyz.resize(xyz.size() / 12);
+  if (!xyz.empty()) std::memcpy(f.xyz.data()->data(), xyz.data(), xyz.size());
+  f.rgb.resize(rgb.size() / 3);
+  if (!rgb.empty()) std::memcpy(f.rgb.data()->data(), rgb.data(), rgb.size());
+  if (!t[2].is_none()) f.label = t[2].cast<std::vector<std::uint32_t>>();
+  return f;
+}
+
+// The class, its constructor and pickling.
+py::class_<Frame> frame_class(py::module_& m) {
+  return py::class_<Frame>(m, "Frame", R"doc(
 One RGB-D capture as a point cloud: organized (an image grid, H x W) or not (N points).
 
 Frame(xyz, rgb=None)
@@ -167,40 +196,18 @@ The arrays are copied once into the frame (a memcpy for C-contiguous float32 / u
 frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
 )doc")
       .def(py::init(&frame_from_numpy), py::arg("xyz"), py::arg("rgb") = py::none())
-      .def(py::pickle(
-          [](const Frame& f) {  // (xyz, rgb, label, width, height): plain arrays and numbers
-            py::object label = py::none();
-            if (!f.label.empty())
-              label = to_numpy(std::vector<std::uint32_t>(f.label),
-                               {static_cast<py::ssize_t>(f.label.size())});
-            py::bytes xyz(reinterpret_cast<const char*>(f.xyz.data()), f.xyz.size() * 12);
-            py::bytes rgb(reinterpret_cast<const char*>(f.rgb.data()), f.rgb.size() * 3);
-            return py::make_tuple(xyz, rgb, label, f.width, f.height);
-          },
-          [](const py::tuple& t) {
-            if (t.size() != 5) throw InputError("Frame: not a pickled proxseg.Frame");
-            Frame f;
-            const std::string xyz = t[0].cast<std::string>(), rgb = t[1].cast<std::string>();
-            f.width = t[3].cast<int>();
-            f.height = t[4].cast<int>();
-            if (xyz.size() % 12 != 0 || rgb.size() % 3 != 0 ||
-                (!rgb.empty() && rgb.size() / 3 != xyz.size() / 12) ||
-                static_cast<std::size_t>(f.width) * f.height != xyz.size() / 12)
-              throw InputError("Frame: not a pickled proxseg.Frame (sizes do not agree)");
-            f.xyz.resize(xyz.size() / 12);
-            if (!xyz.empty()) std::memcpy(f.xyz.data()->data(), xyz.data(), xyz.size());
-            f.rgb.resize(rgb.size() / 3);
-            if (!rgb.empty()) std::memcpy(f.rgb.data()->data(), rgb.data(), rgb.size());
-            if (!t[2].is_none()) f.label = t[2].cast<std::vector<std::uint32_t>>();
-            return f;
-          }))
-      .def_property_readonly(
-          "xyz",
-          [](py::object self) {
-            Frame& f = self.cast<Frame&>();
-            return view<float>(f.xyz, f, self);
-          },
-          "The points, (H, W, 3) or (N, 3) float32 metres, NaN = no return (a view, no copy).")
+      .def(py::pickle(&frame_state, &frame_from_state));
+}
+
+// The views of the points and colours, and the labels.
+void add_frame_arrays(py::class_<Frame>& c) {
+  c.def_property_readonly(
+       "xyz",
+       [](py::object self) {
+         Frame& f = self.cast<Frame&>();
+         return view<float>(f.xyz, f, self);
+       },
+       "The points, (H, W, 3) or (N, 3) float32 metres, NaN = no return (a view, no copy).")
       .def_property_readonly(
           "rgb",
           [](py::object self) -> py::object {
@@ -215,10 +222,14 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
             if (f.label.empty()) return py::none();
             return to_numpy(std::vector<std::uint32_t>(f.label), point_shape(f));
           },
-          "The file's per-point label field (read_point_cloud's label_field), or None.")
-      .def_property_readonly(
-          "width", [](const Frame& f) { return f.width; },
-          "Image columns; the number of points when unorganized.")
+          "The file's per-point label field (read_point_cloud's label_field), or None.");
+}
+
+// The grid's shape and the counts.
+void add_frame_shape(py::class_<Frame>& c) {
+  c.def_property_readonly(
+       "width", [](const Frame& f) { return f.width; },
+       "Image columns; the number of points when unorganized.")
       .def_property_readonly(
           "height", [](const Frame& f) { return f.height; }, "Image rows; 1 when unorganized.")
       .def_property_readonly("organized", &Frame::organized, "Whether the points form an image.")
@@ -236,7 +247,9 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
                std::to_string(f.valid_count()) + " valid points" +
                (f.rgb.empty() ? ", no colour" : "") + ">";
       });
+}
 
+void bind_frame_io(py::module_& m) {
   m.def(
       "read_point_cloud",
       [](const std::string& path, const std::string& label_field) {
@@ -279,6 +292,15 @@ frame.xyz and frame.rgb are views of the frame's own storage, without a copy.
       py::arg("path"), py::arg("frame"), py::arg("fields"), py::arg("compressed"));
   m.def("_from_rgbd", &frame_from_rgbd, py::arg("color"), py::arg("depth"), py::arg("K"),
         py::arg("depth_scale"));
+}
+
+}  // namespace
+
+void bind_frame(py::module_& m) {
+  py::class_<Frame> c = frame_class(m);
+  add_frame_arrays(c);
+  add_frame_shape(c);
+  bind_frame_io(m);
 }
 
 }  // namespace proxseg::python

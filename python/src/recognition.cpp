@@ -70,9 +70,8 @@ double ms_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
-}  // namespace
-
-void bind_recognition(py::module_& m) {
+// The recognition outputs and their writing.
+void bind_recognition_outputs(py::module_& m) {
   py::class_<RecognitionOutput, std::shared_ptr<RecognitionOutput>>(
       m, "_RecognitionOutput", "What RecognitionResult.save writes from (not picklable).");
   m.def(
@@ -108,6 +107,10 @@ void bind_recognition(py::module_& m) {
       },
       py::arg("overrides"),
       "The default recognition parameters with `overrides` (JSON layout) applied and checked.");
+}
+
+// recognize() and recognize_scene().
+void bind_recognition_calls(py::module_& m) {
   m.def(
       "_recognize_scene",
       [](const Frame& frame, const SharedDatabase& d, const py::dict& segment_params_dict,
@@ -170,6 +173,13 @@ void bind_recognition(py::module_& m) {
         return out;
       },
       py::arg("cloud"), py::arg("db"), py::arg("params"), py::arg("input"));
+}
+
+}  // namespace
+
+void bind_recognition(py::module_& m) {
+  bind_recognition_outputs(m);
+  bind_recognition_calls(m);
 }
 
 }  // namespace proxseg::python

@@ -33,7 +33,10 @@ py::dict segmentation_dict(const Frame& frame, const SegmentParams& params, Segm
   return out;
 }
 
-void bind_segment(py::module_& m) {
+namespace {
+
+// segment() and its parameters.
+void bind_segment_calls(py::module_& m) {
   m.def(
       "_segment_params",
       [](const std::string& preset_name, const py::dict& overrides) {
@@ -76,6 +79,10 @@ void bind_segment(py::module_& m) {
       },
       py::arg("prefix"), py::arg("frame"), py::arg("labels"), py::arg("instances"),
       py::arg("report"), py::arg("outputs"), py::arg("threads"));
+}
+
+// What a segmentation writes.
+void bind_segment_outputs(py::module_& m) {
   m.def(
       "_view_page",
       [](const Frame& frame, const py::list& fields, const py::dict& report,
@@ -119,6 +126,13 @@ void bind_segment(py::module_& m) {
         return rows;
       },
       py::arg("which"));
+}
+
+}  // namespace
+
+void bind_segment(py::module_& m) {
+  bind_segment_calls(m);
+  bind_segment_outputs(m);
 }
 
 }  // namespace proxseg::python
