@@ -1,6 +1,7 @@
 // The start and the end every benchmark program shares: its main (allocator settings, options,
 // exit codes as the CLI's) and the writing of its results.
 #pragma once
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/memory.hpp>
 
@@ -37,6 +38,13 @@ inline int finish(const std::filesystem::path& out,
   else
     std::cout << markdown;
   return 0;
+}
+
+// An option checked against [lo, hi], its default shown in --help.
+template <class T, class R>
+CLI::Option* add_ranged(CLI::App& app, const std::string& flag, T& value, const std::string& help,
+                        R lo, R hi) {
+  return app.add_option(flag, value, help)->check(CLI::Range(lo, hi))->capture_default_str();
 }
 
 // A benchmark's main: the CLI's allocator settings (so that times compare with the CLI's and the

@@ -16,6 +16,7 @@
 //                       [--tests N] [--all-tests N] [--all-max-views N] [--process-tests N]
 //                       [--tools PATH] [--lookalikes N] [--seed S] [--threads T] [--json]
 //        db_scale_bench --open DB   (prints {"views", "ms", "rss_kb"} of opening DB)
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/cloud_io.hpp>
@@ -98,9 +99,9 @@ namespace {
 
 // describe_candidate() + recognize(), timed (wall); the answer is recognize()'s name: an
 // "unknown" (under min_score or min_margin) answers nothing.
-std::pair<Answer, Extra> recognise(const TestView& t, const std::string& truth,
-                                   const proxseg::Database& db,
-                                   const proxseg::RecognitionParams& rp) {
+std::pair<Answer, Extra> recognize_one(const TestView& t, const std::string& truth,
+                                       const proxseg::Database& db,
+                                       const proxseg::RecognitionParams& rp) {
   Answer a;
   Extra e;
   const auto t0 = Clock::now();
@@ -286,11 +287,11 @@ Row measure_row(const Measured& m, const Database& db, const RecognitionParams& 
   for (int j = 0; j < n_objects - static_cast<int>(m.tested.size()); ++j)
     r.lookalikes += m.extra_objects[j].kind == "look-alike";
   r.shortlist = p.shortlist;
-  recognise(m.tests.front(), m.tested[m.tests.front().object].name, db, p);
+  recognize_one(m.tests.front(), m.tested[m.tests.front().object].name, db, p);
   r.load_before = load_averages();
   for (int i = 0; i < n; ++i) {
     const TestView& t = m.tests[i];
-    auto [a, e] = recognise(t, m.tested[t.object].name, db, p);
+    auto [a, e] = recognize_one(t, m.tested[t.object].name, db, p);
     progress.step(std::to_string(size) + " views, shortlist " + std::to_string(p.shortlist) + ": " +
                   m.tested[t.object].name + " -> " + (a.best.empty() ? "unknown" : a.best));
     r.answers.push_back(std::move(a));

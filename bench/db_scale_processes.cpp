@@ -1,6 +1,7 @@
 // db_scale_bench's database file as a user meets it, one process per question
 // (db_scale_bench.hpp): opening it in a fresh process, and `proxseg recognize --object` on test
 // views (wall, CPU, peak RSS, answers).
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/recognition/database_io.hpp>
 #include <proxseg/recognition/recognition.hpp>

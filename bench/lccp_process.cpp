@@ -14,6 +14,7 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
+#include <proxseg/core/errors.hpp>
 #include <proxseg/io/memory.hpp>
 
 #include <CLI/CLI.hpp>
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "bench_main.hpp"
+#include "nearest_fill.hpp"
 
 namespace {
 
@@ -72,31 +74,10 @@ std::vector<std::uint32_t> segment(const pcl::PointCloud<Point>::Ptr& cloud) {
     if (pcl::isFinite((*cloud)[i])) labels[i] = (*labelled)[i].label;
 
   // Valid points in voxels that no supervoxel reached: the nearest labelled point's label.
-  pcl::PointCloud<pcl::PointXYZ>::Ptr done(new pcl::PointCloud<pcl::PointXYZ>);
-  std::vector<std::size_t> done_index, todo;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!pcl::isFinite((*cloud)[i])) continue;
-    if (labels[i] == 0) {
-      todo.push_back(i);
-    } else {
-      done->push_back(pcl::PointXYZ((*cloud)[i].x, (*cloud)[i].y, (*cloud)[i].z));
-      done_index.push_back(i);
-    }
-  }
-  if (!todo.empty() && !done->empty()) {
-    pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-    tree.setInputCloud(done);
-    pcl::Indices nn(1);
-    std::vector<float> d2(1);
-    std::vector<std::uint32_t> fill(todo.size(), 0);
-    for (std::size_t t = 0; t < todo.size(); ++t) {
-      const Point& p = (*cloud)[todo[t]];
-      if (tree.nearestKSearch(pcl::PointXYZ(p.x, p.y, p.z), 1, nn, d2) > 0 &&
-          d2[0] <= kFillRadius * kFillRadius)
-        fill[t] = labels[done_index[nn[0]]];
-    }
-    for (std::size_t t = 0; t < todo.size(); ++t) labels[todo[t]] = fill[t];
-  }
+  proxseg::peers::fill_from_nearest(
+      labels, [&](std::size_t i) { return pcl::isFinite((*cloud)[i]); },
+      [&](std::size_t i) { return pcl::PointXYZ((*cloud)[i].x, (*cloud)[i].y, (*cloud)[i].z); },
+      kFillRadius * kFillRadius);
 
   // Segments 1..n in the order of their smallest point index.
   std::unordered_map<std::uint32_t, std::uint32_t> ids;

@@ -187,7 +187,7 @@ Paths paths(const Options& o) {
 }
 
 // The 64-view database, then learn0 recognised against it.
-Run recognise_64(const Options& o, const Paths& p) {
+Run recognize_64(const Options& o, const Paths& p) {
   std::cerr << "mem_bench: a 64-view database\n";
   const std::vector<std::string> ids = {"01", "05", "06", "08", "09", "10", "11", "12"};
   for (const auto& id : ids)
@@ -384,7 +384,7 @@ int run_all(const Options& o) {
   const Paths p = paths(o);
   std::cerr << "mem_bench: one 640x480 frame\n";
   const Run segment = run(o.cli, {"segment", p.scene, "-o", (p.work / "seg").string()}, p.log);
-  const Run recognize = recognise_64(o, p);
+  const Run recognize = recognize_64(o, p);
   const Batch b = batch(o, p);
   const std::vector<Estimate> e = estimates(o, p);
   const Sweep s = sweep(o, p);

@@ -1,5 +1,6 @@
 // PCL peer segmenters (see peers_pcl.hpp). The only translation unit that includes PCL.
 #include "peers_pcl.hpp"
+#include "nearest_fill.hpp"
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/PointIndices.h>
@@ -132,32 +133,13 @@ std::vector<std::uint32_t> lccp(const Frame& frame, const LccpParams& p) {
 
   // Valid points in voxels that no supervoxel reached: nearest labelled point.
   if (p.fill_radius > 0) {
-    pcl::PointCloud<pcl::PointXYZ>::Ptr done(new pcl::PointCloud<pcl::PointXYZ>);
-    std::vector<std::size_t> done_index;
-    std::vector<std::size_t> todo;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!frame.valid(i)) continue;
-      if (labels[i] == 0) {
-        todo.push_back(i);
-      } else {
-        done->push_back(pcl::PointXYZ(frame.xyz[i].x(), frame.xyz[i].y(), frame.xyz[i].z()));
-        done_index.push_back(i);
-      }
-    }
-    if (!todo.empty() && !done->empty()) {
-      pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-      tree.setInputCloud(done);
-      pcl::Indices nn(1);
-      std::vector<float> d2(1);
-      const float r2 = p.fill_radius * p.fill_radius;
-      std::vector<std::uint32_t> fill(todo.size(), 0);
-      for (std::size_t t = 0; t < todo.size(); ++t) {
-        const Eigen::Vector3f& x = frame.xyz[todo[t]];
-        if (tree.nearestKSearch(pcl::PointXYZ(x.x(), x.y(), x.z()), 1, nn, d2) > 0 && d2[0] <= r2)
-          fill[t] = labels[done_index[nn[0]]];
-      }
-      for (std::size_t t = 0; t < todo.size(); ++t) labels[todo[t]] = fill[t];
-    }
+    const float r2 = p.fill_radius * p.fill_radius;
+    fill_from_nearest(
+        labels, [&](std::size_t i) { return frame.valid(i); },
+        [&](std::size_t i) {
+          return pcl::PointXYZ(frame.xyz[i].x(), frame.xyz[i].y(), frame.xyz[i].z());
+        },
+        r2);
   }
   renumber(labels);
   return labels;
@@ -171,14 +153,14 @@ std::vector<std::uint32_t> region_growing_rgb(const Frame& frame, const RegionGr
 
   const auto cloud = to_pcl<pcl::PointXYZRGB>(frame, idx);
 
-  pcl::search::Search<pcl::PointXYZRGB>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZRGB>);
   pcl::RegionGrowingRGB<pcl::PointXYZRGB> reg;
-  reg.setInputCloud(cloud);
-  reg.setSearchMethod(tree);
   reg.setDistanceThreshold(p.distance_threshold);
   reg.setPointColorThreshold(p.point_colour_threshold);
   reg.setRegionColorThreshold(p.region_colour_threshold);
   reg.setMinClusterSize(p.min_cluster_size);
+  pcl::search::Search<pcl::PointXYZRGB>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZRGB>);
+  reg.setSearchMethod(tree);
+  reg.setInputCloud(cloud);
   std::vector<pcl::PointIndices> clusters;
   reg.extract(clusters);
 

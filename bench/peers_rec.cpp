@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <functional>
+#include <optional>
 
 namespace proxseg::peers {
 namespace {
@@ -76,7 +77,47 @@ PclFeatures::Ptr to_pcl_features(const Cloud& c) {
 
 }  // namespace
 
-// --- Open3D -------------------------------------------------------------------------------------
+// --- Open3D and Open3D FGR ---------------------------------------------------------------------
+
+namespace {
+
+// The database's views as Open3D clouds, for both Open3D peers.
+std::vector<Open3dCloud> open3d_views(const Database& db) {
+  // Open3D warns on stdout; the benchmark's stdout is its table.
+  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
+  std::vector<Open3dCloud> views;
+  for (const ModelView& v : db.views) views.push_back(to_open3d(v.cloud()));
+  return views;
+}
+
+// Every view aligned to the target: `coarse(view)` gives the first pose (none: no hypothesis),
+// timed as the coarse stage, then point-to-point ICP refines it.
+template <class Coarse>
+std::vector<PeerAlignment> align_views(const std::vector<Open3dCloud>& views,
+                                       const Open3dCloud& target, int threads, double icp_distance,
+                                       int icp_iterations, const Coarse& coarse) {
+  const int n = static_cast<int>(views.size());
+  std::vector<PeerAlignment> out(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int v = 0; v < n; ++v) {
+    const Open3dCloud& source = views[v];
+    auto t0 = Clock::now();
+    const std::optional<Eigen::Matrix4d> first = coarse(source);
+    out[v].ransac_ms = ms_since(t0);
+    out[v].found = first.has_value();
+    if (!out[v].found) continue;
+    t0 = Clock::now();
+    const o3reg::RegistrationResult fine =
+        o3reg::RegistrationICP(source.points, target.points, icp_distance, *first,
+                               o3reg::TransformationEstimationPointToPoint(false),
+                               o3reg::ICPConvergenceCriteria(1e-6, 1e-6, icp_iterations));
+    out[v].icp_ms = ms_since(t0);
+    out[v].pose = fine.transformation_;
+  }
+  return out;
+}
+
+}  // namespace
 
 struct Open3dPeer::Impl {
   Open3dParams params;
@@ -86,11 +127,9 @@ struct Open3dPeer::Impl {
 
 Open3dPeer::Open3dPeer(const Database& db, const Open3dParams& params, int threads)
     : impl_(std::make_unique<Impl>()) {
-  // Open3D warns on stdout; the benchmark's stdout is its table.
-  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   impl_->params = params;
   impl_->threads = threads > 0 ? threads : omp_get_max_threads();
-  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud()));
+  impl_->views = open3d_views(db);
 }
 
 Open3dPeer::~Open3dPeer() = default;
@@ -103,33 +142,18 @@ std::vector<PeerAlignment> Open3dPeer::align(const Cloud& candidate, int seed) c
   const o3reg::CorrespondenceCheckerBasedOnDistance distance(p.checker_distance);
   const std::vector<std::reference_wrapper<const o3reg::CorrespondenceChecker>> checkers = {
       edge, distance};
-  const int n = static_cast<int>(impl_->views.size());
-  std::vector<PeerAlignment> out(n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(impl_->threads)
-  for (int v = 0; v < n; ++v) {
-    const Open3dCloud& source = impl_->views[v];
-    auto t0 = Clock::now();
+  const auto ransac = [&](const Open3dCloud& source) -> std::optional<Eigen::Matrix4d> {
     const o3reg::RegistrationResult coarse = o3reg::RegistrationRANSACBasedOnFeatureMatching(
         source.points, target.points, source.features, target.features, false,
         p.max_correspondence_distance, o3reg::TransformationEstimationPointToPoint(false), 3,
         checkers, o3reg::RANSACConvergenceCriteria(p.ransac_iterations, p.ransac_confidence));
-    out[v].ransac_ms = ms_since(t0);
     // Open3D returns the identity with fitness 0 when no hypothesis passed the checkers.
-    out[v].found = coarse.fitness_ > 0;
-    out[v].pose = coarse.transformation_;
-    if (!out[v].found) continue;
-    t0 = Clock::now();
-    const o3reg::RegistrationResult fine =
-        o3reg::RegistrationICP(source.points, target.points, p.icp_distance, coarse.transformation_,
-                               o3reg::TransformationEstimationPointToPoint(false),
-                               o3reg::ICPConvergenceCriteria(1e-6, 1e-6, p.icp_iterations));
-    out[v].icp_ms = ms_since(t0);
-    out[v].pose = fine.transformation_;
-  }
-  return out;
+    if (!(coarse.fitness_ > 0)) return std::nullopt;
+    return coarse.transformation_;
+  };
+  return align_views(impl_->views, target, impl_->threads, p.icp_distance, p.icp_iterations,
+                     ransac);
 }
-
-// --- Open3D FGR ---------------------------------------------------------------------------------
 
 struct FgrPeer::Impl {
   FgrParams params;
@@ -139,10 +163,9 @@ struct FgrPeer::Impl {
 
 FgrPeer::FgrPeer(const Database& db, const FgrParams& params, int threads)
     : impl_(std::make_unique<Impl>()) {
-  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   impl_->params = params;
   impl_->threads = threads > 0 ? threads : omp_get_max_threads();
-  for (const ModelView& v : db.views) impl_->views.push_back(to_open3d(v.cloud()));
+  impl_->views = open3d_views(db);
 }
 
 FgrPeer::~FgrPeer() = default;
@@ -154,31 +177,19 @@ std::vector<PeerAlignment> FgrPeer::align(const Cloud& candidate, int seed) cons
   const o3reg::FastGlobalRegistrationOption option(p.division_factor, false, true,
                                                    p.max_correspondence_distance, p.iterations,
                                                    p.tuple_scale, p.max_tuples);
-  const int n = static_cast<int>(impl_->views.size());
-  std::vector<PeerAlignment> out(n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(impl_->threads)
-  for (int v = 0; v < n; ++v) {
-    const Open3dCloud& source = impl_->views[v];
-    auto t0 = Clock::now();
+  const auto fgr = [&](const Open3dCloud& source) -> std::optional<Eigen::Matrix4d> {
     o3reg::RegistrationResult coarse;
-    // Open3D 0.16's feature matching is an orphaned `omp for`: inside this loop it would bind to
-    // this team and match only this thread's share of the points. A team of one gives it all.
+    // Open3D 0.16's feature matching is an orphaned `omp for`: inside the views' loop it would
+    // bind to that team and match only this thread's share of the points. A team of one gives it
+    // all.
 #pragma omp parallel num_threads(1)
     coarse = o3reg::FastGlobalRegistrationBasedOnFeatureMatching(
         source.points, target.points, source.features, target.features, option);
-    out[v].ransac_ms = ms_since(t0);
     // FGR always returns a pose (with fewer than 10 matches, the one that aligns the centroids);
     // ICP starts from it and the score judges the result.
-    out[v].found = true;
-    t0 = Clock::now();
-    const o3reg::RegistrationResult fine =
-        o3reg::RegistrationICP(source.points, target.points, p.icp_distance, coarse.transformation_,
-                               o3reg::TransformationEstimationPointToPoint(false),
-                               o3reg::ICPConvergenceCriteria(1e-6, 1e-6, p.icp_iterations));
-    out[v].icp_ms = ms_since(t0);
-    out[v].pose = fine.transformation_;
-  }
-  return out;
+    return coarse.transformation_;
+  };
+  return align_views(impl_->views, target, impl_->threads, p.icp_distance, p.icp_iterations, fgr);
 }
 
 // --- PCL ----------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 // OUT/real.md, real.json and objects.csv. Exit codes: 0 ok, 1 bad input, 2 usage.
 // Usage: real_bench [--ycbv DIR] [--folds LIST] [--grid FILE] [--peers all|none] [--threads T]
 //                   -o OUT [--json]
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/parameters.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/real_eval.hpp>

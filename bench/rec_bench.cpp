@@ -9,6 +9,7 @@
 // Usage: rec_bench --models DIR -o OUT [--units mm|m] [--views N] [--tests N]
 //                  [--occluded-tests N] [--sweep-tests N] [--no-sweep] [--peers all|none|LIST]
 //                  [--peer-tests N] [--seed S] [--threads T] [--config FILE] [--json]
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/rec_eval.hpp>
 #include <proxseg/io/params.hpp>

@@ -1,6 +1,7 @@
 // rec_bench's rows (rec_bench.hpp): proxseg with its defaults and the sweeps (one change each,
 // like the paper's Table 2), and the registration peers (Open3D RANSAC and FGR, PCL, OpenCV PPF)
 // named exactly as proxseg names, so that the rows differ only in registration.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include <omp.h>
@@ -25,10 +26,10 @@
 namespace proxseg::bench::recbench {
 namespace {
 
-using Recogniser = std::function<Answer(const TestView&)>;
+using Recognizer = std::function<Answer(const TestView&)>;
 
 // Algorithm 3 as proxseg does it: describe the test view like the database, align every view.
-Recogniser proxseg_recogniser(const Database& db, const RecognitionParams& rp) {
+Recognizer proxseg_recognizer(const Database& db, const RecognitionParams& rp) {
   return [&db, rp](const TestView& t) {
     const auto t0 = Clock::now();
     Answer a;
@@ -57,7 +58,7 @@ Recogniser proxseg_recogniser(const Database& db, const RecognitionParams& rp) {
 // scores, score rule and ties to the earlier view) from a peer's poses, so that the rows compare
 // whole recognisers that differ only in registration.
 template <class Peer>
-std::function<Answer(const TestView&)> peer_recogniser(const Peer& peer,
+std::function<Answer(const TestView&)> peer_recognizer(const Peer& peer,
                                                        const proxseg::Database& db,
                                                        const proxseg::RecognitionParams& rp,
                                                        int threads) {
@@ -115,7 +116,7 @@ Row proxseg_row(const std::string& label, const std::string& kind, int paper, co
   r.radii = d.descriptor.fpfh_radii;
   r.ransac = p.registration.ransac_iterations;
   r.icp = p.registration.icp_iterations;
-  r.run = proxseg_recogniser(d, p);
+  r.run = proxseg_recognizer(d, p);
   return r;
 }
 
@@ -135,7 +136,7 @@ Row peer_row(const Bench& b, std::shared_ptr<const Peer> peer) {
   Row r;
   r.kind = "peer";
   r.radii = b.descriptor.fpfh_radii;
-  r.run = peer_recogniser(*peer, b.db, b.rp, b.team);
+  r.run = peer_recognizer(*peer, b.db, b.rp, b.team);
   r.owned = peer;
   return r;
 }
@@ -143,25 +144,28 @@ Row peer_row(const Bench& b, std::shared_ptr<const Peer> peer) {
 Row peer_row(const std::string& name, const Options& o, const Bench& b) {
   namespace peers = proxseg::peers;
   Row r;
+  // The row of a peer: its label, RANSAC iterations (0: none) and ICP iterations.
+  const auto row_of = [&](auto peer, const char* label, int ransac, int icp) {
+    Row row = peer_row(b, std::move(peer));
+    row.label = label;
+    row.ransac = ransac;
+    row.icp = icp;
+    return row;
+  };
   if (name == "open3d") {
     peers::Open3dParams o3d;
     o3d.ransac_iterations = 100000;  // its 4M default: 2.5x the time, no gain (docs/method.md)
-    r = peer_row(b, std::make_shared<const peers::Open3dPeer>(b.db, o3d, o.threads));
-    r.label = "Open3D RANSAC 100k + ICP";
-    r.ransac = o3d.ransac_iterations;
-    r.icp = o3d.icp_iterations;
+    r = row_of(std::make_shared<const peers::Open3dPeer>(b.db, o3d, o.threads),
+               "Open3D RANSAC 100k + ICP", o3d.ransac_iterations, o3d.icp_iterations);
   } else if (name == "pcl") {
     const peers::PclParams pcl;
-    r = peer_row(b, std::make_shared<const peers::PclPeer>(b.db, pcl, o.threads));
-    r.label = "PCL SAC-prerejective 50k + ICP";
+    r = row_of(std::make_shared<const peers::PclPeer>(b.db, pcl, o.threads),
+               "PCL SAC-prerejective 50k + ICP", pcl.ransac_iterations, pcl.icp_iterations);
     r.radii.resize(1);  // its point type holds one histogram
-    r.ransac = pcl.ransac_iterations;
-    r.icp = pcl.icp_iterations;
   } else if (name == "fgr") {
     const peers::FgrParams fgr;
-    r = peer_row(b, std::make_shared<const peers::FgrPeer>(b.db, fgr, o.threads));
-    r.label = "Open3D FGR + ICP";
-    r.icp = fgr.icp_iterations;  // no RANSAC
+    r = row_of(std::make_shared<const peers::FgrPeer>(b.db, fgr, o.threads), "Open3D FGR + ICP", 0,
+               fgr.icp_iterations);  // no RANSAC
   } else {
 #ifdef PROXSEG_WITH_PPF
     const peers::PpfParams ppf;

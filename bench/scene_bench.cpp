@@ -54,13 +54,10 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--first-seed", o.first_seed, "First seed of --scenes")
       ->needs(scenes)
       ->capture_default_str();
-  app.add_option("--views", o.views, "Database views per known object")
-      ->check(CLI::Range(1, 64))
-      ->capture_default_str();
-  app.add_option("--threads", o.threads,
-                 "Threads (0 = all cores); proxseg's answers do not depend on it (the peer's may)")
-      ->check(CLI::Range(0, 1024))
-      ->capture_default_str();
+  add_ranged(app, "--views", o.views, "Database views per known object", 1, 64);
+  add_ranged(app, "--threads", o.threads,
+             "Threads (0 = all cores); proxseg's answers do not depend on it (the peer's may)", 0,
+             1024);
   app.add_option("--config", o.config,
                  "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults (as "
                  "proxseg recognize --config)");
@@ -74,29 +71,21 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--textured", o.textured,
                  "--set objects: the folder of textured meshes (<name>/*.obj)")
       ->capture_default_str();
-  app.add_option("--fold-scenes", o.fold_scenes,
-                 "--set objects: dev and report scenes per object fold")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--fold-report-scenes", o.fold_report_scenes,
-                 "--set objects: report scenes per object fold (-1 = --fold-scenes; 0 = none, "
-                 "while choosing on the dev scenes)")
-      ->check(CLI::Range(-1, 1000))
-      ->capture_default_str();
-  app.add_option("--fold-known", o.fold_known, "--set objects: known objects per fold")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--fold-unknown", o.fold_unknown, "--set objects: unknown objects per fold")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--max-folds", o.max_folds,
-                 "--set objects: only the first N folds of each half (0 = all; then not every "
-                 "object is unknown once)")
-      ->check(CLI::Range(0, 1000))
-      ->capture_default_str();
-  app.add_option("--peer-ransac", o.peer_ransac, "Open3D RANSAC iterations of the peer per view")
-      ->check(CLI::Range(1000, 10000000))
-      ->capture_default_str();
+  add_ranged(app, "--fold-scenes", o.fold_scenes,
+             "--set objects: dev and report scenes per object fold", 1, 1000);
+  add_ranged(app, "--fold-report-scenes", o.fold_report_scenes,
+             "--set objects: report scenes per object fold (-1 = --fold-scenes; 0 = none, "
+             "while choosing on the dev scenes)",
+             -1, 1000);
+  add_ranged(app, "--fold-known", o.fold_known, "--set objects: known objects per fold", 1, 1000);
+  add_ranged(app, "--fold-unknown", o.fold_unknown, "--set objects: unknown objects per fold", 1,
+             1000);
+  add_ranged(app, "--max-folds", o.max_folds,
+             "--set objects: only the first N folds of each half (0 = all; then not every "
+             "object is unknown once)",
+             0, 1000);
+  add_ranged(app, "--peer-ransac", o.peer_ransac, "Open3D RANSAC iterations of the peer per view",
+             1000, 10000000);
   app.add_flag("--json", o.json, "Print scenes.json on stdout");
 }
 

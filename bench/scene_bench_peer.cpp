@@ -1,5 +1,6 @@
 // scene_bench's peer pipeline (scene_bench.hpp): PCL plane + Euclidean clusters as candidates,
 // each aligned to every view by Open3D and named as proxseg names.
+#include <proxseg/core/errors.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include <cstdint>

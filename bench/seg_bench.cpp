@@ -9,6 +9,7 @@
 //                  [--threads T] [--methods "proxseg default,PCL LCCP"]
 //                  [--config NAME=file.json]... [--process-scenes N] [--proxseg PATH]
 //                  [--lccp-process PATH]
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/scene_names.hpp>
 #include <proxseg/eval/seg_scores.hpp>

@@ -1,5 +1,6 @@
 // seg_bench's whole-process times (seg_bench.hpp): `proxseg segment` and bench/lccp_process as
 // child processes, one process per frame and one per set, wall and CPU from wait4().
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
 #include <proxseg/eval/scene_names.hpp>
 

@@ -15,6 +15,7 @@
 #include "bench_util.hpp"
 #include "scene_list.hpp"
 
+#include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/eval/cross_validation.hpp>
 #include <proxseg/eval/scene_names.hpp>
