@@ -22,7 +22,7 @@ import sys
 
 # The trees the map covers, in the order it shows them; within each, every folder holding code.
 TREES = ["include/proxseg", "src", "apps", "python/src", "python/proxseg", "python/tests", "bench",
-         "tests", "fuzz", "scripts", "cmake"]
+         "tests", "fuzz", "examples", "scripts", "cmake"]
 CODE = (".cpp", ".hpp", ".hpp.in", ".py", ".sh", ".cmake", ".js")
 SKIP_DIRS = {"__pycache__", "fuzz-regressions"}
 
