@@ -136,7 +136,7 @@ docs: build
 	@$(BUILD)/proxseg params --markdown > docs/parameters.md
 	@echo "API reference: $(BUILD)/docs/cpp/html/index.html, $(BUILD)/docs/python/proxseg.html"
 
-# The tests of what the sanitizers can find (tests/CMakeLists.txt, PROXSEG_SANITIZER_TESTS:
+# The tests of what the sanitizers can find (tests/CMakeLists.txt, those marked SANITIZE:
 # readers, database, batches, memory and file-system faults, threads, the pages' writers) under
 # ASan + UBSan (gcc): any memory error, leak or undefined behaviour fails the test it happens in.
 # Its own build tree, without the benchmarks, the Python module and the other tests, with a

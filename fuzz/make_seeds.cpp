@@ -6,7 +6,8 @@
 #include <proxseg/recognition/database_io.hpp>
 
 #include <proxseg/io/params.hpp>
-#include "folder_database_v1.hpp"
+#include "support/folder_database_v1.hpp"
+#include "support/frame_window.hpp"
 
 #include <cstring>
 #include <filesystem>
@@ -38,21 +39,6 @@ std::string pack(const std::vector<std::string>& parts) {
     if (i) out += fuzz::kPart;
     out += parts[i];
   }
-  return out;
-}
-
-// A rows x cols window of an organized frame, with its labels.
-proxseg::Frame crop(const proxseg::Frame& f, int r0, int c0, int rows, int cols) {
-  proxseg::Frame out;
-  out.width = cols;
-  out.height = rows;
-  for (int r = r0; r < r0 + rows; ++r)
-    for (int c = c0; c < c0 + cols; ++c) {
-      const std::size_t i = static_cast<std::size_t>(r) * f.width + c;
-      out.xyz.push_back(f.xyz[i]);
-      out.rgb.push_back(f.rgb[i]);
-      if (!f.label.empty()) out.label.push_back(f.label[i]);
-    }
   return out;
 }
 
@@ -132,7 +118,7 @@ void pcd_seeds(const fs::path& data, const fs::path& out) {
       put(out, "head" + std::to_string(n++) + ".pcd", bytes.substr(0, len));
   }
   const proxseg::Frame scene = proxseg::read_pcd((data / "mosd/learn/learn0.pcd").string());
-  const proxseg::Frame small = crop(scene, 200, 300, 12, 16);
+  const proxseg::Frame small = proxseg::test::frame_window(scene, 200, 300, 12, 16);
   for (const char* enc : {"ascii", "binary", "binary_compressed"}) {
     const std::string e = enc;
     put(out, "crop-" + e + ".pcd", pcd(small, e));

@@ -50,7 +50,7 @@ def ycb_frame(k: int) -> dict:
 @pytest.fixture(scope="session")
 def ycb_db(tmp_path_factory) -> Path:
     """The database of the YCB-Video frames' three models (a full model each, from points.xyz),
-    built by the CLI as tests/test_recognize_outputs.cpp builds it."""
+    built by the CLI as tests/cli/test_recognize_outputs.cpp builds it."""
     db = tmp_path_factory.mktemp("ycb") / "db"
     for name in YCB_OBJECTS:
         run_cli("db", "add", db, "--name", name, "--xyz", data(f"ycbv/models/{name}/points.xyz"))
