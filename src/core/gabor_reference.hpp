@@ -1,6 +1,6 @@
 // The texture block [paper 3.1] computed the plain way, for the tests: every Gabor response kept
 // as a full image, each voxel binned from it. voxel_features() computes the same block without
-// keeping the bank (tests/test_features.cpp checks that they agree).
+// keeping the bank (tests/core/test_features.cpp checks that they agree).
 #pragma once
 #include <proxseg/core/features.hpp>
 #include <proxseg/core/frame.hpp>

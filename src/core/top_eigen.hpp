@@ -1,7 +1,7 @@
 // The leading eigenpairs of a symmetric matrix, for the principal axes of the features
 // [paper 3.2]: a QR solver that takes back only the wanted eigenvectors, and block Lanczos for
-// large matrices (top_eigen.cpp says how and why). tests/test_top_eigen.cpp checks both against
-// Eigen::SelfAdjointEigenSolver.
+// large matrices (top_eigen.cpp says how and why). tests/core/test_top_eigen.cpp checks both
+// against Eigen::SelfAdjointEigenSolver.
 #pragma once
 #include <Eigen/Core>
 
