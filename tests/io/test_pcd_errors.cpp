@@ -19,6 +19,15 @@ using namespace io_test;
 using proxseg::Frame;
 using proxseg::InputError;
 
+namespace {
+
+// The header of an ascii x y z rgb cloud of n points in one row.
+std::string ascii_header(int n) {
+  return header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", n, 1, n, "ascii");
+}
+
+}  // namespace
+
 TEST(IoErrors, MissingFileAndUnknownExtension) {
   expect_input_error([] { proxseg::read_point_cloud(tmp_path("missing.pcd")); }, {"missing.pcd"});
   expect_input_error([] { proxseg::read_point_cloud(tmp_path("missing.ply")); }, {"missing.ply"});
@@ -85,24 +94,13 @@ TEST(IoErrors, DataProblems) {
             compressed_block(std::string("\x00\x01", 2), 3200000000u),
         {"chuge.pcd"});
   // Ascii line with the wrong number of values names the line (header is 11 lines).
-  check("ascii_count.pcd",
-        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 2, 1, 2, "ascii") + "1 2 3 0\n1 2 3\n",
+  check("ascii_count.pcd", ascii_header(2) + "1 2 3 0\n1 2 3\n",
         {"line 13", "3 values", "expected 4"});
-  check("ascii_nan_text.pcd",
-        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 two 3 0\n",
-        {"line 12", "two"});
-  check("ascii_short.pcd",
-        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 3, 1, 3, "ascii") + "1 2 3 0\n",
-        {"1 data line", "POINTS 3"});
-  check(
-      "ascii_long.pcd",
-      header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, 1, "ascii") + "1 2 3 0\n4 5 6 0\n",
-      {"line 13", "beyond POINTS"});
+  check("ascii_nan_text.pcd", ascii_header(1) + "1 two 3 0\n", {"line 12", "two"});
+  check("ascii_short.pcd", ascii_header(3) + "1 2 3 0\n", {"1 data line", "POINTS 3"});
+  check("ascii_long.pcd", ascii_header(1) + "1 2 3 0\n4 5 6 0\n", {"line 13", "beyond POINTS"});
   // All-NaN cloud: zero valid points.
-  check("all_nan.pcd",
-        header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 2, 1, 2, "ascii") +
-            "nan nan nan 0\nnan 1 2 0\n",
-        {"no valid points"});
+  check("all_nan.pcd", ascii_header(2) + "nan nan nan 0\nnan 1 2 0\n", {"no valid points"});
   check("neg_label.pcd",
         header("x y z rgb label", "4 4 4 4 4", "F F F F I", "1 1 1 1 1", 1, 1, 1, "ascii") +
             "1 2 3 0 -5\n",
