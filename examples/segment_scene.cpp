@@ -1,4 +1,4 @@
-// A program built against an installed proxseg (find_package or pkg-config; README, Library):
+// A program built against an installed proxseg (find_package or pkg-config; docs/library.md):
 // it segments one point cloud with the default parameters and writes what `proxseg segment`
 // writes: PREFIX.pcd (per-point label and instance), PREFIX.png and PREFIX.json.
 #include <proxseg/core/pipeline.hpp>
@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    proxseg::keep_freed_memory();  // as the CLI does (README, Library)
+    proxseg::keep_freed_memory();  // as the CLI does (docs/library.md)
     const proxseg::Frame frame = proxseg::read_point_cloud(argv[1]);
     const proxseg::SegmentParams params;  // the defaults: `proxseg segment` without options
     const proxseg::SegmentResult result = proxseg::segment(frame, params);
