@@ -30,8 +30,22 @@ const char* tool_about(const std::string& name) {
   return "";
 }
 
+namespace {
+// CLI11's help with one blank line between the headings of the option groups, not two.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_help(const CLI::App* app, std::string name,
+                        CLI::AppFormatMode mode) const override {
+    std::string text = CLI::Formatter::make_help(app, std::move(name), mode);
+    for (std::size_t at; (at = text.find("\n\n\n")) != std::string::npos;) text.erase(at, 1);
+    return text;
+  }
+};
+}  // namespace
+
 void describe_app(CLI::App& app) {
   app.name("proxseg");
+  app.formatter(std::make_shared<HelpFormatter>());  // the commands added later take it too
   app.description("proxseg: unsupervised RGB-D segmentation and object recognition");
   app.require_subcommand(1);
   // Also after the command (`proxseg segment -q ...`): the commands pass what they do not know

@@ -67,9 +67,9 @@ EXAMPLES = [
      ["proxseg view out/scene"]),
     ("Build a model database from view clouds, or render views of a coloured mesh in "
      "millimetres, then name every object of a scene.",
-     ["proxseg db add models.db --name mug mug-1.pcd mug-2.pcd",
-      "proxseg db render models.db --name ape --units mm obj_000001.ply",
-      "proxseg recognize scene.pcd --db models.db -o out/scene"]),
+     ["proxseg db add models --name mug mug-1.pcd mug-2.pcd",
+      "proxseg db render models --name ape --units mm obj_000001.ply",
+      "proxseg recognize scene.pcd --db models -o out/scene"]),
     ("Segment a whole dataset, frames two at a time, writing only 16-bit label images and "
      "reports; shard 1 of 4 of it, resumable; then merge the shards' summaries.",
      ["proxseg segment --batch frames/ -o out/ --outputs labels,json --threads 2",
