@@ -149,7 +149,12 @@ void say_usage_error(CLI::App& app, const CLI::ParseError& e) {
 int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch) {
   try {
     app.parse(argc, argv);
-    return dispatch();
+    const int code = dispatch();
+    // What went to stdout must have arrived (a full disk, a closed pipe's reader gone): else the
+    // results are lost and the exit code must say so.
+    if (!std::cout.flush())
+      throw proxseg::FileError("<stdout>: write error (the results printed there are lost)");
+    return code;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

@@ -163,6 +163,10 @@ TEST(CliUnix, TheReportAloneGoesToStandardOutput) {
   const nlohmann::json file = nlohmann::json::parse(slurp(d / "work/file.json"));
   for (const CliRun* r : {&dash, &plain_dash, &json})
     EXPECT_EQ(stable(nlohmann::json::parse(r->out)), stable(file));
+  // A report that cannot be written out is an error, not a silent loss.
+  const CliRun full = sh(d, "proxseg segment " + learn0() + " -o - > /dev/full");
+  EXPECT_EQ(full.code, 1);
+  EXPECT_TRUE(has(full.err, "proxseg: error: <stdout>: write error")) << full.err;
 }
 
 TEST(CliUnix, FilesAskedForStandardOutputAreAUsageErrorThatSaysWhy) {
@@ -208,7 +212,9 @@ TEST(CliUnix, OutputsNoneComputesAndWritesNothing) {
 TEST(CliUnix, RecognizeTakesStandardInputAndPrintsTheReportAlone) {
   const fs::path d = scratch();
   const std::string milk = kData + "/pcl/milk.pcd";
-  ASSERT_EQ(sh(d, "proxseg db add -q db --name milk " + milk).code, 0);
+  const CliRun add = sh(d, "proxseg db add db --name milk - < " + milk);
+  ASSERT_EQ(add.code, 0) << add.err;
+  EXPECT_TRUE(has(add.err, "from <stdin>")) << add.err;
   const CliRun r = sh(d, "proxseg recognize --db db --object - -o - < " + milk);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(r.out);
