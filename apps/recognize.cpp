@@ -35,8 +35,8 @@ void add_recognize(CLI::App& app, RecognizeOptions& o) {
   cmd->add_option("-o,--output", o.output,
                   "Output prefix: writes PREFIX.json, PREFIX.png (picture with a legend) and, "
                   "for a scene, PREFIX.pcd (field `object`: the id of the object holding each "
-                  "point); required for a scene (with --batch: a folder); - prints the JSON "
-                  "report on stdout and writes nothing")
+                  "point); required for a scene unless --json or --outputs none (with --batch: a "
+                  "folder); - prints the JSON report on stdout and writes nothing")
       ->group(group::kOutput);
   o.outputs_flag = cmd->add_option("--outputs", o.outputs,
                                    "What to write for a scene, comma-separated: labels "

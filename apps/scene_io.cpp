@@ -140,7 +140,7 @@ SceneDestination scene_destination(const SegmentOptions& o, const std::string& o
           "on stdout alone, or --outputs none to write nothing");
     return d;
   }
-  d.prefix = output;
+  d.prefix = writes_nothing(asked) ? "" : output;  // --outputs none: not even its folder
   d.files = asked;
   d.report_to_stdout = json;
   return d;
