@@ -39,24 +39,30 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
                   "Work through a dataset: folders (recursive), list files, globs (quoted) or "
                   ".pcd/.ply files; frames are clouds and RGB-D pairs. -o is then a folder: "
                   "OUT/<frame>.* per frame, OUT/summary.jsonl (one line per frame, as done) "
-                  "and OUT/summary.json");
+                  "and OUT/summary.json")
+      ->group(group::kBatch);
   cmd->add_option("--shard", o.shard,
                   "Only shard I of N (e.g. 2/3; by a hash of the frame's name, stable as the "
                   "dataset grows); its summary is OUT/summary.shard-I-of-N.*; `proxseg summary "
-                  "OUT` merges the shards'");
+                  "OUT` merges the shards'")
+      ->group(group::kBatch);
   cmd->add_flag("--resume", o.resume,
                 "Skip the frames an earlier run into OUT finished (outputs whole, as its "
-                "summary recorded them); a killed run's other frames are done again");
+                "summary recorded them); a killed run's other frames are done again")
+      ->group(group::kBatch);
   cmd->add_option("--colour-pattern", o.naming.colour,
                   "RGB-D pairs in a batch: colour image name, {id} = the frame's name")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group::kBatch);
   cmd->add_option("--color-pattern", o.naming.colour)->group("");  // the other spelling
   cmd->add_option("--depth-pattern", o.naming.depth, "RGB-D pairs: depth image name")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group::kBatch);
   cmd->add_option("--meta-pattern", o.naming.meta,
                   "RGB-D pairs: per-frame camera JSON (YCB-Video meta or intrinsics), used when "
                   "present; else --intrinsics")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(group::kBatch);
 }
 
 namespace {
@@ -80,15 +86,14 @@ std::pair<int, int> parse_shard(const std::string& shard) {
   throw CLI::ValidationError("--shard " + shard + ": expected I/N with 1 <= I <= N, e.g. 2/3");
 }
 
-// A progress bar with the rate and the time left.
-std::string rate_and_eta(std::size_t done, std::size_t total, double seconds) {
-  if (done == 0 || seconds <= 0) return "";
-  const double rate = done / seconds;
-  const long left = static_cast<long>((total - done) / rate + 0.5);
-  char text[64];
-  std::snprintf(text, sizeof text, "%.2f frames/s, ETA %ld:%02ld:%02ld", rate, left / 3600,
-                left / 60 % 60, left % 60);
-  return text;
+// The progress bar's rate and time left, from the frames finished well so far (a failed frame is
+// often quick: counting it would tell of a rate no frame is done at); "" before the first.
+std::string rate_and_eta(std::size_t ok, std::size_t done, std::size_t total, double seconds) {
+  if (ok == 0 || seconds <= 0) return "";
+  const double rate = ok / seconds;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f frames/s", rate);
+  return text + (", ETA " + human_time((total - done) / rate));
 }
 
 }  // namespace
@@ -101,8 +106,21 @@ void check_batch_options(const SegmentOptions& o) {
   }
   if (!o.input.empty() || !o.colour.empty() || !o.depth.empty() || !o.meta.empty())
     throw CLI::ValidationError(
-        "--batch takes the frames instead of INPUT or --color/--depth/--meta");
+        "--batch takes the frames instead of INPUT or --colour/--depth/--meta");
+  for (const std::string& source : o.batch)
+    no_stdin(source, "--batch",
+             "a batch reads folders, list files, globs and clouds by name; - is for one cloud, "
+             "INPUT");
   parse_shard(o.shard);
+}
+
+void check_batch_output(const std::string& output) {
+  if (output.empty())
+    throw CLI::ValidationError("--output is required: with --batch, the folder of the outputs");
+  if (output == "-")
+    throw CLI::ValidationError(
+        "-o -: a batch writes a folder (one report per frame and a summary), not stdout; give "
+        "-o OUT (--json prints the summary on stdout)");
 }
 
 namespace {
@@ -163,8 +181,9 @@ std::size_t run_frames(proxseg::BatchStart& b,
         }
         const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        progress.step(f.id + (row.contains("error") ? " (failed)" : "") + "  " +
-                      rate_and_eta(done, todo.size(), s));
+        progress.step(f.id + (row.contains("error")
+                                  ? " (failed)"
+                                  : "  " + rate_and_eta(done - failed, done, todo.size(), s)));
       }
     } catch (...) {
       const std::lock_guard<std::mutex> lock(logging);
@@ -214,7 +233,8 @@ void add_summary(CLI::App& app, SummaryOptions& o) {
       "summary",
       "Merge the summaries of a batch's shards (OUT/summary*.jsonl) into OUT/summary.json");
   cmd->add_option("output", o.output, "The batch's output folder")->required();
-  cmd->add_flag("--json", o.json, "Print the merged summary on stdout");
+  cmd->add_flag("--json", o.json, "Print the merged summary on stdout")->group(group::kOutput);
+  help_last(cmd);
 }
 
 int run_summary(const SummaryOptions& o) {

@@ -30,21 +30,46 @@ const char* tool_about(const std::string& name) {
   return "";
 }
 
+namespace {
+// CLI11's help with one blank line between the headings of the option groups, not two.
+class HelpFormatter : public CLI::Formatter {
+ public:
+  std::string make_help(const CLI::App* app, std::string name,
+                        CLI::AppFormatMode mode) const override {
+    std::string text = CLI::Formatter::make_help(app, std::move(name), mode);
+    for (std::size_t at; (at = text.find("\n\n\n")) != std::string::npos;) text.erase(at, 1);
+    return text;
+  }
+};
+}  // namespace
+
 void describe_app(CLI::App& app) {
   app.name("proxseg");
+  app.formatter(std::make_shared<HelpFormatter>());  // the commands added later take it too
   app.description("proxseg: unsupervised RGB-D segmentation and object recognition");
-  app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
-                                        proxseg::git_commit() + ")");
   app.require_subcommand(1);
   // Also after the command (`proxseg segment -q ...`): the commands pass what they do not know
   // to the program's options.
   app.fallthrough();
   app.add_flag_callback(
-      "-q,--quiet", [] { set_verbosity(Verbosity::kQuiet); },
-      "Say only warnings and errors on stderr (no notes, no progress)");
+         "-q,--quiet", [] { set_verbosity(Verbosity::kQuiet); },
+         "Say only warnings and errors on stderr (no notes, no progress)")
+      ->group(group::kMessages);
   app.add_flag_callback(
-      "-v,--verbose", [] { set_verbosity(Verbosity::kVerbose); },
-      "Say also the steps behind a result (recognition's trials)");
+         "-v,--verbose", [] { set_verbosity(Verbosity::kVerbose); },
+         "Say also the steps behind a result (recognition's trials)")
+      ->group(group::kMessages);
+  // Under "Help", after them: the headings come in the order of their first options.
+  app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
+                                        proxseg::git_commit() + ")")
+      ->group(group::kHelp);
+  help_last(&app);
+}
+
+void help_last(CLI::App* cmd) {
+  // CLI11 lists the groups in the order of their first options, and adds the help flag first.
+  cmd->set_help_flag();
+  cmd->set_help_flag("-h,--help", "Print this help message and exit")->group(group::kHelp);
 }
 
 namespace {
@@ -61,6 +86,14 @@ CLI::App* chosen_command(CLI::App& app) {
     if (subs.empty()) return cmd;
     cmd = subs.front();
   }
+}
+
+// "proxseg db add": the command and the commands it is under.
+std::string path_of(const CLI::App* cmd) {
+  std::string path = cmd->get_name();
+  for (const CLI::App* p = cmd->get_parent(); p; p = p->get_parent())
+    path = p->get_name() + " " + path;
+  return path;
 }
 
 // What was not understood, for the message: the first unknown flag, or an unknown command.
@@ -90,14 +123,25 @@ std::string not_understood(CLI::App& app, CLI::App* cmd, const CLI::ParseError& 
   return what;
 }
 
-// "proxseg: error: WHAT" and where the help is, on stderr.
+// A command of commands (proxseg, proxseg db) given none and nothing else it did not know.
+bool lacks_its_command(CLI::App& app, CLI::App* cmd, const CLI::ParseError& e) {
+  return dynamic_cast<const CLI::RequiredError*>(&e) && cmd->get_subcommands().empty() &&
+         !cmd->get_subcommands([](const CLI::App*) { return true; }).empty() &&
+         cmd->remaining().empty() && app.remaining().empty();
+}
+
+// "proxseg: error: WHAT" and where the help is, on stderr; the help itself, for a command of
+// commands given none (`proxseg`, `proxseg db`).
 void say_usage_error(CLI::App& app, const CLI::ParseError& e) {
   CLI::App* cmd = chosen_command(app);
-  std::string path = cmd->get_name();
-  for (const CLI::App* p = cmd->get_parent(); p; p = p->get_parent())
-    path = p->get_name() + " " + path;
+  if (lacks_its_command(app, cmd, e)) {
+    // The root's help: it delegates to the command given, and names it by its whole path.
+    std::cerr << app.help() << "proxseg: error: give a command: `" << path_of(cmd)
+              << " COMMAND --help` for its options\n";
+    return;
+  }
   std::cerr << "proxseg: error: " << not_understood(app, cmd, e) << "\n"
-            << "Run `" << path << " --help` for the options.\n";
+            << "Run `" << path_of(cmd) << " --help` for the options.\n";
 }
 
 }  // namespace
@@ -105,7 +149,12 @@ void say_usage_error(CLI::App& app, const CLI::ParseError& e) {
 int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& dispatch) {
   try {
     app.parse(argc, argv);
-    return dispatch();
+    const int code = dispatch();
+    // What went to stdout must have arrived (a full disk, a closed pipe's reader gone): else the
+    // results are lost and the exit code must say so.
+    if (!std::cout.flush())
+      throw proxseg::FileError("<stdout>: write error (the results printed there are lost)");
+    return code;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -147,11 +196,6 @@ int program_main(int argc, char** argv,
   });
 }
 
-std::string input_name(const SegmentOptions& o) {
-  if (!o.batch.empty()) return o.batch.front();
-  return o.input.empty() ? o.colour : o.input;
-}
-
 int naming_input(const std::string& input, const char* doing, const std::function<int()>& command) {
   try {
     return command();
@@ -167,33 +211,6 @@ int naming_input(const std::string& input, const char* doing, const std::functio
   } catch (const std::exception& e) {  // the system refused something else (a thread, ...)
     throw InputError(input + ": " + e.what() + " (while " + doing + ")");
   }
-}
-
-void add_scene_options(CLI::App* cmd, SegmentOptions& o, bool recognition) {
-  cmd->add_option("--colour", o.colour, "Colour image (PNG/JPG) of an RGB-D pair");
-  cmd->add_option("--color", o.colour)->group("");  // the other spelling
-  cmd->add_option("--depth", o.depth, "16-bit depth PNG of an RGB-D pair");
-  cmd->add_option("--intrinsics", o.intrinsics,
-                  "JSON with fx, fy, cx, cy, depth_scale (units per metre)");
-  cmd->add_option("--meta", o.meta, "YCB-Video meta JSON (intrinsic_matrix, factor_depth)");
-  cmd->add_option("--preset", o.preset,
-                  "Base parameters: default (best measured) or paper (the paper's settings)")
-      ->check(CLI::IsMember({"default", "paper"}));
-  add_parameter_flags(cmd, o.params, recognition);
-}
-
-// Preset < --config < the parameter flags.
-proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams p) {
-  apply_parameter_flags(o.params, p, nullptr);
-  proxseg::validate(p);
-  return p;
-}
-
-proxseg::Frame read_input(const SegmentOptions& o) {
-  if (!o.input.empty()) return proxseg::read_point_cloud(o.input);
-  const proxseg::Intrinsics k =
-      o.meta.empty() ? proxseg::read_intrinsics(o.intrinsics) : proxseg::read_ycb_meta(o.meta);
-  return proxseg::read_rgbd(o.colour, o.depth, k);
 }
 
 void print_colourless_note(const std::string& input, const proxseg::Frame& frame,
@@ -232,21 +249,6 @@ void make_parent(const std::string& path) {
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec)
     throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
-}
-
-void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs) {
-  const bool rgbd = !o.colour.empty() || !o.depth.empty();
-  if (o.input.empty() == !rgbd)
-    throw CLI::ValidationError("give either INPUT or --color and --depth");
-  if (rgbd && (o.colour.empty() || o.depth.empty()))
-    throw CLI::ValidationError("--color and --depth go together");
-  if (rgbd && o.intrinsics.empty() == o.meta.empty())
-    throw CLI::ValidationError("an RGB-D pair needs exactly one of --intrinsics or --meta");
-  for (const std::string& in : {o.input, o.colour, o.depth})
-    for (const std::string& out : outputs)
-      if (!in.empty() && std::filesystem::exists(in) && std::filesystem::exists(out) &&
-          std::filesystem::equivalent(in, out))
-        throw CLI::ValidationError("--output would overwrite the input " + in);
 }
 
 namespace {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "human_time.hpp"
 #include "progress.hpp"
 
 namespace cli {
@@ -53,20 +54,64 @@ void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,
 // Logs each deprecation note of --config's old keys (proxseg::renamed_note) as a warning.
 void warn_renamed(const std::vector<std::string>& notes);
 
-// The scene input and the segmentation flags of `segment` and `recognize`.
+// The headings of the commands' --help (CLI11 option groups): every option is under one, in this
+// order where a command has them (the order in which a command adds its options).
+namespace group {
+inline constexpr const char* kInput = "Input";
+inline constexpr const char* kOutput = "Output";
+inline constexpr const char* kBatch = "Batch";
+inline constexpr const char* kParameters = "Parameters";
+inline constexpr const char* kSegmentation = "Segmentation parameters";
+inline constexpr const char* kRecognition = "Recognition parameters";
+inline constexpr const char* kResources = "Threads and memory";
+inline constexpr const char* kMessages = "Messages";
+inline constexpr const char* kHelp = "Help";
+}  // namespace group
+// Puts -h,--help last, under "Help": call after a command's other options.
+void help_last(CLI::App* cmd);
+
+// The scene input and the segmentation flags of `segment` and `recognize` (scene_io.cpp).
 struct SegmentOptions : BatchOptions {
   std::string input, colour, depth, intrinsics, meta;
-  std::string outputs = "pcd,png,json";  // --outputs
+  std::string outputs = "pcd,png,json";       // --outputs
+  const CLI::Option* outputs_flag = nullptr;  // --outputs, to tell it given from its default
   std::string preset = "default";
   ParamFlags params;
 };
-// The scene's input flags, the preset and the segmentation table's flags (and recognition's).
-void add_scene_options(CLI::App* cmd, SegmentOptions& o, bool recognition = false);
-// Usage checks: INPUT or an RGB-D pair, and no output path equal to an input.
+// INPUT (a cloud, or - for standard input) and the flags of an RGB-D pair, under "Input".
+void add_input_options(CLI::App* cmd, SegmentOptions& o, const std::string& input_help);
+// --preset, --config (its help: config_help) and the segmentation table's flags (and
+// recognition's), under "Parameters" and the tables' headings.
+void add_parameter_options(CLI::App* cmd, SegmentOptions& o, std::string& config,
+                           const std::string& config_help, bool recognition);
+// Usage checks: INPUT or an RGB-D pair, - (standard input) only as INPUT, and no output path equal
+// to an input.
 void check_scene_options(const SegmentOptions& o, const std::vector<std::string>& outputs);
 // base (preset, config) < the parameter flags; validated.
 proxseg::SegmentParams segment_params(const SegmentOptions& o, proxseg::SegmentParams base);
+// INPUT (standard input for -) or the RGB-D pair.
 proxseg::Frame read_input(const SegmentOptions& o);
+// A cloud named on the command line: the file, or standard input for - (PCD or PLY by content).
+proxseg::Frame read_cloud(const std::string& path);
+// What messages and reports call that cloud: path, or "<stdin>" for -.
+std::string cloud_name(const std::string& path);
+// A usage error when value is - where standard input is not read: "FLAG takes a file here, not -
+// (standard input): WHAT".
+void no_stdin(const std::string& value, const std::string& flag, const std::string& what);
+
+// Where one scene's results go, from -o, --outputs and --json (docs/cli.md).
+struct SceneDestination {
+  std::string prefix;  // the files' prefix; "" when no file is written
+  proxseg::OutputSet files{false, false, false, false, false};  // written beside prefix
+  bool report_to_stdout = false;                                // the JSON report on stdout
+};
+// -o PREFIX: the --outputs files beside PREFIX, and the report on stdout with --json. -o -: the
+// JSON report on stdout and nothing else (an --outputs given may hold only json). No -o: the
+// report on stdout with --json; nothing written with --outputs none; else a usage error when
+// prefix_required ("--output is required ..."). A file kind asked for with -o - or without -o is
+// a usage error that says why.
+SceneDestination scene_destination(const SegmentOptions& o, const std::string& output, bool json,
+                                   bool prefix_required);
 // One line on stderr when the input has no colour and that takes feature blocks off the
 // segmentation (colourless_note): "proxseg: INPUT has no colour: the colour and texture blocks
 // are off". Nothing otherwise.
@@ -95,8 +140,11 @@ void make_parent(const std::string& path);
 proxseg::OutputSet outputs_option(const std::string& list);
 // --batch and what goes with it (--shard, --resume, the RGB-D naming patterns).
 void add_batch_options(CLI::App* cmd, BatchOptions& o);
-// Usage checks of a batch: no single-scene input beside --batch, a well-formed --shard.
+// Usage checks of a batch: no single-scene input beside --batch, no - (standard input) in it, a
+// well-formed --shard.
 void check_batch_options(const SegmentOptions& o);
+// A batch's -o: a folder (neither missing nor -).
+void check_batch_output(const std::string& output);
 // Runs job over the frames of o.batch (this shard's; with --resume, those not yet finished) in
 // natural order, with a progress bar: each row goes to OUT/<summary>.jsonl as it is done, and the
 // run's summary to OUT/<summary>.json (proxseg::summarize), also on stdout with --json. header
@@ -138,8 +186,8 @@ int run_app(CLI::App& app, int argc, char** argv, const std::function<int()>& di
 // command line's parser, loading libraries' state) into exit 1 with "proxseg: error: out of
 // memory" instead of an abort.
 int guarded_main(const std::function<int()>& main);
-// What a command works on, for messages: its INPUT, the colour image of its pair, or "--batch"'s
-// sources.
+// What a command works on, for messages: its INPUT ("<stdin>" for -), the colour image of its
+// pair, or "--batch"'s sources.
 std::string input_name(const SegmentOptions& o);
 // Runs command; memory exhausted in it becomes an InputError "INPUT: out of memory while
 // DOING", another failure that is neither an InputError nor a usage error "INPUT: WHAT (while

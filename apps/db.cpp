@@ -17,62 +17,92 @@ namespace cli {
 
 using proxseg::InputError;
 
+namespace {
+// The --help headings of the db commands beside cli.hpp's.
+constexpr const char* kObject = "Object";
+constexpr const char* kRendering = "Rendering";
+constexpr const char* kNewDatabase = "New database";
+}  // namespace
+
 void add_db(CLI::App& app, DbOptions& o) {
   auto* db = app.add_subcommand("db", tool_about("db"));
   db->require_subcommand(1);
+  help_last(db);
   const auto descriptor = [&](CLI::App* cmd) {
     cmd->add_option("--voxel-size", o.voxel_size,
-                    "New database only: voxel-grid filter of views and candidates, metres");
-    cmd->add_option("--normal-radius", o.normal_radius, "New database only: normal radius, metres");
+                    "New database only: voxel-grid filter of views and candidates, metres")
+        ->group(kNewDatabase);
+    cmd->add_option("--normal-radius", o.normal_radius, "New database only: normal radius, metres")
+        ->group(kNewDatabase);
     cmd->add_option("--fpfh-radii", o.fpfh_radii, "New database only: FPFH radii, metres")
-        ->delimiter(',');
+        ->delimiter(',')
+        ->group(kNewDatabase);
+    help_last(cmd);
+  };
+  // The object a command works on.
+  const auto name = [&](CLI::App* cmd) {
+    cmd->add_option("--name", o.name, "Object name")->required()->group(kObject);
   };
   o.add = db->add_subcommand("add", "Add views of an object: PCD files, or a plain xyz model");
   o.add->add_option("db", o.dir, "Database directory (created if missing)")->required();
-  o.add->add_option("--name", o.name, "Object name")->required();
-  o.add->add_option("views", o.views, "View clouds (.pcd or .ply), one view each");
-  o.add->add_flag("--accumulate", o.accumulate,
-                  "Accumulate all given clouds into one view (several frames of one viewpoint)");
-  o.add->add_option("--xyz", o.xyz, "A full model as plain 'x y z' lines in metres (YCB-Video)");
+  name(o.add);
+  o.add->add_option("views", o.views,
+                    "View clouds (.pcd or .ply), one view each; - for one from standard input");
+  o.add
+      ->add_flag("--accumulate", o.accumulate,
+                 "Accumulate all given clouds into one view (several frames of one viewpoint)")
+      ->group(group::kInput);
+  o.add->add_option("--xyz", o.xyz, "A full model as plain 'x y z' lines in metres (YCB-Video)")
+      ->group(group::kInput);
   descriptor(o.add);
   o.render = db->add_subcommand(
       "render", "Render partial views of a coloured mesh with a virtual depth camera and add them");
   o.render->add_option("db", o.dir, "Database directory (created if missing)")->required();
-  o.render->add_option("--name", o.name, "Object name")->required();
+  name(o.render);
   o.render
       ->add_option("mesh", o.mesh,
                    "Mesh: .ply with vertex colours, or .obj with its .mtl and texture")
       ->required();
   o.render->add_option("--views", o.render_views, "Number of views (cameras on a sphere)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, 1000))
+      ->group(kRendering);
   o.render
       ->add_option("--units", o.units,
                    "Units of the mesh coordinates: m or mm (a mesh far too large or small for "
                    "an object in these units is refused, with the other unit suggested)")
       ->check(CLI::IsMember({"mm", "m"}))
-      ->capture_default_str();
-  o.render->add_option("--distance", o.distance,
-                       "Camera distance from the mesh centre, metres (0 = automatic)");
-  o.render->add_option("--noise", o.noise, "Depth noise std at 1 m, metres (0 = none)");
-  o.render->add_option("--seed", o.seed, "Seed of the depth noise");
+      ->capture_default_str()
+      ->group(kRendering);
+  o.render
+      ->add_option("--distance", o.distance,
+                   "Camera distance from the mesh centre, metres (0 = automatic)")
+      ->group(kRendering);
+  o.render->add_option("--noise", o.noise, "Depth noise std at 1 m, metres (0 = none)")
+      ->group(kRendering);
+  o.render->add_option("--seed", o.seed, "Seed of the depth noise")->group(kRendering);
   descriptor(o.render);
   o.info = db->add_subcommand("info", "List the objects and views of a database, with sizes");
   o.info->add_option("db", o.dir, "Database directory")->required();
-  o.info->add_flag("--json", o.json, "Print JSON");
+  o.info->add_flag("--json", o.json, "Print JSON")->group(group::kOutput);
+  help_last(o.info);
   o.check = db->add_subcommand(
       "check", "Read every record and verify its checksum; exit 1 when any is damaged");
   o.check->add_option("db", o.dir, "Database directory")->required();
-  o.check->add_flag("--json", o.json, "Print JSON");
+  o.check->add_flag("--json", o.json, "Print JSON")->group(group::kOutput);
+  help_last(o.check);
   o.remove = db->add_subcommand("remove", "Remove an object and all its views");
   o.remove->add_option("db", o.dir, "Database directory")->required();
-  o.remove->add_option("--name", o.name, "Object name")->required();
+  name(o.remove);
+  help_last(o.remove);
   o.rename = db->add_subcommand("rename", "Rename an object (into another: the views join it)");
   o.rename->add_option("db", o.dir, "Database directory")->required();
-  o.rename->add_option("--name", o.name, "Object name")->required();
-  o.rename->add_option("--to", o.new_name, "New name")->required();
+  name(o.rename);
+  o.rename->add_option("--to", o.new_name, "New name")->required()->group(kObject);
+  help_last(o.rename);
   o.upgrade = db->add_subcommand(
       "upgrade", "Convert a version-1 folder database (index.json, views/) to the database file");
   o.upgrade->add_option("db", o.dir, "Database directory")->required();
+  help_last(o.upgrade);
 }
 
 namespace {
@@ -107,6 +137,9 @@ int run_add(const DbOptions& o) {
     throw CLI::ValidationError("give view clouds or --xyz FILE (not both)");
   if (!o.xyz.empty() && o.accumulate)
     throw CLI::ValidationError("--accumulate goes with view clouds, not --xyz");
+  no_stdin(o.xyz, "--xyz", "- reads a PCD or PLY view, as VIEWS");
+  if (std::count(o.views.begin(), o.views.end(), "-") > 1)
+    throw CLI::ValidationError("- (standard input) holds one view: give it once");
   // Read everything before touching the database: bad input leaves it as it was.
   std::vector<std::pair<proxseg::Frame, std::string>> views;
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // the sensor of a captured view
@@ -124,21 +157,21 @@ int run_add(const DbOptions& o) {
     // colour per point, or none).
     bool coloured = true;
     for (const auto& file : o.views) {
-      const proxseg::Frame f = proxseg::read_point_cloud(file);
+      const proxseg::Frame f = read_cloud(file);
       coloured = coloured && f.coloured();
       for (std::size_t i = 0; i < f.size(); ++i)
         if (f.valid(i)) {
           all.xyz.push_back(f.xyz[i]);
           if (coloured) all.rgb.push_back(f.rgb[i]);
         }
-      source += (source.empty() ? "" : " + ") + file;
+      source += (source.empty() ? "" : " + ") + cloud_name(file);
     }
     if (!coloured) all.rgb.clear();
     all.width = static_cast<int>(all.xyz.size());
     all.height = 1;
     views.emplace_back(std::move(all), source);
   } else {
-    for (const auto& file : o.views) views.emplace_back(proxseg::read_point_cloud(file), file);
+    for (const auto& file : o.views) views.emplace_back(read_cloud(file), cloud_name(file));
   }
   proxseg::Database db = open_for_adding(o);
   for (const auto& [frame, source] : views)
@@ -149,6 +182,8 @@ int run_add(const DbOptions& o) {
 }
 
 int run_render(const DbOptions& o) {
+  no_stdin(o.mesh, "MESH",
+           "a mesh is read by its name (an OBJ's material and texture lie beside it)");
   if (!(o.distance >= 0) || !std::isfinite(o.distance))
     throw InputError("--distance: expected metres >= 0");
   if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise: expected metres in [0, 1)");

@@ -29,18 +29,26 @@ void add_eval(CLI::App& app, EvalOptions& o) {
   cmd->add_option("predicted", o.predicted,
                   "Predicted PCD of the same cloud (proxseg output or any PCD with the field)");
   cmd->add_option("--field", o.field,
-                  "Predicted field to score (default: instance if present, else label)");
+                  "Predicted field to score (default: instance if present, else label)")
+      ->group(group::kInput);
+  cmd->add_flag("--json", o.json, "Print JSON instead of a table")->group(group::kOutput);
   cmd->add_option("--batch", o.batch,
-                  "Score every labelled PCD of this folder (segmenting each unless --pred-dir)");
+                  "Score every labelled PCD of this folder (segmenting each unless --pred-dir)")
+      ->group(group::kBatch);
   cmd->add_option("--pred-dir", o.pred_dir,
-                  "With --batch: read predictions DIR/<scene>.pcd instead of segmenting");
+                  "With --batch: read predictions DIR/<scene>.pcd instead of segmenting")
+      ->group(group::kBatch);
   cmd->add_option("-o,--output", o.output,
-                  "With --batch: write scenes.csv, summary.md, summary.json to this folder");
+                  "With --batch: write scenes.csv, summary.md, summary.json to this folder")
+      ->group(group::kBatch);
   cmd->add_option("--preset", o.preset, "With --batch: segmentation preset (default, paper)")
-      ->check(CLI::IsMember({"default", "paper"}));
-  cmd->add_option("--config", o.config, "With --batch: JSON segmentation parameters");
-  cmd->add_option("--threads", o.threads, "Worker threads for segmenting (0 = all cores)");
-  cmd->add_flag("--json", o.json, "Print JSON instead of a table");
+      ->check(CLI::IsMember({"default", "paper"}))
+      ->group(group::kParameters);
+  cmd->add_option("--config", o.config, "With --batch: JSON segmentation parameters")
+      ->group(group::kParameters);
+  cmd->add_option("--threads", o.threads, "Worker threads for segmenting (0 = all cores)")
+      ->group(group::kResources);
+  help_last(cmd);
 }
 
 namespace {
@@ -149,6 +157,9 @@ int run_eval_batch(const EvalOptions& o) {
 }  // namespace
 
 int run_eval(const EvalOptions& o) {
+  no_stdin(o.truth, "TRUTH", "eval-seg reads labelled PCD files by name");
+  no_stdin(o.predicted, "PREDICTED", "eval-seg reads labelled PCD files by name");
+  no_stdin(o.batch, "--batch", "it is a folder of labelled PCD files");
   if (!o.batch.empty()) {
     if (!o.truth.empty() || !o.predicted.empty())
       throw CLI::ValidationError("--batch takes a folder instead of TRUTH and PREDICTED");

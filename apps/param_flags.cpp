@@ -35,6 +35,17 @@ std::string flag_help(const Parameter& row) {
   return help + ")";
 }
 
+// The rows of the command's resources (threads, memory) rather than of the method.
+bool resource_row(const Parameter& row) {
+  return row.key() == "threads" || row.key() == "max_memory_mib";
+}
+
+// The --help heading of a row's flag.
+const char* group_of(const Parameter& row, ParamFlags::Table table) {
+  if (resource_row(row)) return group::kResources;
+  return table == ParamFlags::kSegment ? group::kSegmentation : group::kRecognition;
+}
+
 void add_flag_of(CLI::App* cmd, const Parameter& row, ParamFlags::Table table, ParamFlags& out) {
   const auto record = [&out, table, key = row.key()](const std::string& text) {
     out.given.push_back({table, key, text});
@@ -51,7 +62,7 @@ void add_flag_of(CLI::App* cmd, const Parameter& row, ParamFlags::Table table, P
                      : row.type == ParamType::kReal ? "REAL"
                                                     : "INT");
     }
-    if (hidden) opt->group("");
+    opt->group(hidden ? "" : group_of(row, table));
   };
   add(row.flag, false);
   for (const std::string& alias : row.aliases) add(alias, true);
@@ -80,16 +91,20 @@ bool changes_labels(const Parameter& row) {
 }  // namespace
 
 void add_parameter_flags(CLI::App* cmd, ParamFlags& out, bool recognition) {
+  // Under their headings in this order: segmentation, recognition, threads and memory.
   for (const Parameter& row : proxseg::segment_parameters())
-    if (!row.flag.empty()) add_flag_of(cmd, row, ParamFlags::kSegment, out);
+    if (!row.flag.empty() && !resource_row(row)) add_flag_of(cmd, row, ParamFlags::kSegment, out);
   if (recognition)
     for (const Parameter& row : proxseg::recognition_parameters())
       if (!row.flag.empty()) add_flag_of(cmd, row, ParamFlags::kRecognition, out);
+  for (const Parameter& row : proxseg::segment_parameters())
+    if (!row.flag.empty() && resource_row(row)) add_flag_of(cmd, row, ParamFlags::kSegment, out);
   cmd->add_option("--set", out.sets,
                   std::string("Any parameter: KEY=VALUE, KEY as `proxseg params` lists it "
                               "(section.name, or the name alone when one section has it") +
                       (recognition ? "; recognition's too" : "") + "); repeatable")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->group(group::kParameters);
 }
 
 void apply_parameter_flags(const ParamFlags& flags, proxseg::SegmentParams& seg,

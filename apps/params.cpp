@@ -20,8 +20,12 @@ void add_params(CLI::App& app, ParamsOptions& o) {
   cmd->add_option("table", o.table, "segmentation, recognition or all")
       ->check(CLI::IsMember({"segmentation", "recognition", "all"}))
       ->capture_default_str();
-  auto* json = cmd->add_flag("--json", o.json, "As JSON (one object per parameter)");
-  cmd->add_flag("--markdown", o.markdown, "As the markdown of docs/parameters.md")->excludes(json);
+  auto* json =
+      cmd->add_flag("--json", o.json, "As JSON (one object per parameter)")->group(group::kOutput);
+  cmd->add_flag("--markdown", o.markdown, "As the markdown of docs/parameters.md")
+      ->excludes(json)
+      ->group(group::kOutput);
+  help_last(cmd);
 }
 
 namespace {

@@ -22,8 +22,9 @@ int main(int argc, char** argv) {
       if (app.got_subcommand("eval-seg")) return run_eval(eval);
       if (app.got_subcommand("db")) return run_db(db);
       if (app.got_subcommand("recognize"))
-        return naming_input(recognize.object.empty() ? input_name(recognize) : recognize.object,
-                            "recognising it", [&] { return run_recognize(recognize); });
+        return naming_input(
+            recognize.object.empty() ? input_name(recognize) : cloud_name(recognize.object),
+            "recognising it", [&] { return run_recognize(recognize); });
       return 2;
     };
   });

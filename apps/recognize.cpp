@@ -24,26 +24,36 @@ using proxseg::InputError;
 
 void add_recognize(CLI::App& app, RecognizeOptions& o) {
   auto* cmd = app.add_subcommand("recognize", tool_about("recognize"));
-  cmd->add_option("input", o.input,
-                  "Scene point cloud (.pcd organized or not, .ply); or use --color/--depth");
-  cmd->add_option("--db", o.db, "Model database directory (proxseg db add/render)")->required();
+  add_input_options(cmd, o, "Scene point cloud");
+  cmd->add_option("--object", o.object,
+                  "Recognise this one already segmented cloud instead of a scene (- for "
+                  "standard input)")
+      ->group(group::kInput);
+  cmd->add_option("--db", o.db, "Model database directory (proxseg db add/render)")
+      ->required()
+      ->group(group::kInput);
   cmd->add_option("-o,--output", o.output,
                   "Output prefix: writes PREFIX.json, PREFIX.png (picture with a legend) and, "
                   "for a scene, PREFIX.pcd (field `object`: the id of the object holding each "
-                  "point); required for a scene (with --batch: a folder)");
-  cmd->add_option("--outputs", o.outputs,
-                  "What to write for a scene, comma-separated: labels (PREFIX.object.png, 16-bit "
-                  "object ids), pcd (binary_compressed), png, json, html (the 3D page, proxseg "
-                  "view); or all")
-      ->capture_default_str();
+                  "point); required for a scene unless --json or --outputs none (with --batch: a "
+                  "folder); - prints the JSON report on stdout and writes nothing")
+      ->group(group::kOutput);
+  o.outputs_flag = cmd->add_option("--outputs", o.outputs,
+                                   "What to write for a scene, comma-separated: labels "
+                                   "(PREFIX.object.png, 16-bit object ids), pcd "
+                                   "(binary_compressed), png, json, html (the 3D page, proxseg "
+                                   "view); or all; or none (nothing written, the table printed)")
+                       ->capture_default_str()
+                       ->group(group::kOutput);
+  cmd->add_flag("--json", o.json,
+                "Print the JSON report on stdout (without -o: it alone, no file written)")
+      ->group(group::kOutput);
   add_batch_options(cmd, o);
-  cmd->add_option("--object", o.object,
-                  "Recognise this one already segmented cloud instead of a scene");
-  cmd->add_option("--config", o.config,
-                  "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults "
-                  "(same layout as the report's \"parameters\")");
-  add_scene_options(cmd, o, true);
-  cmd->add_flag("--json", o.json, "Print the JSON report on stdout");
+  add_parameter_options(cmd, o, o.config,
+                        "JSON {\"segmentation\": {...}, \"recognition\": {...}} over the defaults "
+                        "(same layout as the report's \"parameters\")",
+                        true);
+  help_last(cmd);
 }
 
 namespace {
@@ -118,13 +128,14 @@ std::vector<proxseg::SceneObject> segment_and_recognize(const proxseg::Frame& fr
 
 int run_recognize(const RecognizeOptions& o) {
   const bool object = !o.object.empty();
-  const proxseg::OutputSet outputs = outputs_option(o.outputs);
   check_batch_options(o);
   if (object && (!o.input.empty() || !o.colour.empty() || !o.depth.empty() || !o.batch.empty()))
     throw CLI::ValidationError("--object takes one segmented cloud instead of a scene");
-  if (!object && o.output.empty()) throw CLI::ValidationError("a scene needs -o PREFIX");
+  const SceneDestination to =
+      o.batch.empty() ? scene_destination(o, o.output, o.json, !object) : SceneDestination{};
+  if (!o.batch.empty()) check_batch_output(o.output);
   if (!object && o.batch.empty())
-    check_scene_options(o, proxseg::output_files(o.output, outputs, true));
+    check_scene_options(o, proxseg::output_files(to.prefix, to.files, true));
   proxseg::SegmentParams seg = proxseg::preset(o.preset);
   proxseg::RecognitionParams rec;
   std::vector<std::string> renamed;
@@ -134,18 +145,18 @@ int run_recognize(const RecognizeOptions& o) {
   apply_parameter_flags(o.params, seg, &rec);
   proxseg::validate(seg);
   proxseg::validate(rec);
-  if (!o.output.empty() && o.batch.empty())
-    make_parent(o.output);  // before the work: an unwritable output fails at once
+  if (!to.prefix.empty()) make_parent(to.prefix);  // before the work: an unwritable output fails
 
   const auto start = Clock::now();
   const proxseg::Database db = proxseg::load_database(o.db);
   if (db.views.empty()) throw InputError(o.db + ": the database has no views");
   const double load_ms = ms_since(start);
   say() << "proxseg: database " << o.db << ": " << counted(db.objects().size(), "object") << ", "
-        << counted(db.views.size(), "view") << " (" << static_cast<int>(load_ms) << " ms)\n";
+        << counted(db.views.size(), "view") << " (" << human_ms(load_ms) << ")\n";
   for (const std::string& d : db.damaged)
     std::cerr << "proxseg: warning: " << d << "; the view is left out (see proxseg db check)\n";
   if (!o.batch.empty()) {
+    const proxseg::OutputSet outputs = outputs_option(o.outputs);
     const proxseg::RecognizeJob job{o.output, outputs, seg, rec, o.db, load_ms};
     return run_batch(
         o, o.output, o.json,
@@ -162,31 +173,31 @@ int run_recognize(const RecognizeOptions& o) {
   double segment_ms = 0, recognize_ms = 0;
   if (object) {
     const auto t = Clock::now();
-    frame = proxseg::read_point_cloud(o.object);
+    frame = read_cloud(o.object);
     objects.push_back(proxseg::recognize_object(frame, db, rec));
     recognize_ms = ms_since(t);
   } else {
     frame = read_input(o);
     say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
           << frame.height << ")\n";
-    print_colourless_note(o.input, frame, seg);
+    print_colourless_note(input_name(o), frame, seg);
     proxseg::check_memory(frame, seg, input_name(o));
     objects = segment_and_recognize(frame, seg, db, rec, segment_ms, recognize_ms);
   }
 
   warn_damaged(objects);
   nlohmann::json report =
-      proxseg::recognition_report(object ? o.object : (o.input.empty() ? o.colour : o.input), o.db,
-                                  db, rec, object ? nullptr : &seg, objects);
+      proxseg::recognition_report(object ? cloud_name(o.object) : input_name(o), o.db, db, rec,
+                                  object ? nullptr : &seg, objects);
   report["times_ms"] = {{"load_database", load_ms},
                         {"segment", segment_ms},
                         {"recognize", recognize_ms},
                         {"total", ms_since(start)}};
   // PREFIX.pcd (a scene), PREFIX.png and PREFIX.json: all made in memory, then all or none.
-  if (!o.output.empty())
-    report = proxseg::write_recognition(o.output, frame, objects, db, std::move(report), !object,
-                                        outputs);
-  if (o.json)
+  if (!to.prefix.empty())
+    report = proxseg::write_recognition(to.prefix, frame, objects, db, std::move(report), !object,
+                                        to.files);
+  if (to.report_to_stdout)
     std::cout << report.dump(2) << "\n";
   else
     print(objects);

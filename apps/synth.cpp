@@ -1,4 +1,5 @@
-// `proxseg synth`: the built-in synthetic scene, or generated cluttered tabletops (--clutter).
+// `proxseg synth`: the built-in synthetic scene, or generated cluttered tabletops (--clutter);
+// -o - writes the scene's PCD to stdout.
 #include <proxseg/core/errors.hpp>
 #include <proxseg/core/render.hpp>
 #include <proxseg/eval/clutter.hpp>
@@ -17,33 +18,62 @@ namespace cli {
 
 using proxseg::InputError;
 
+namespace {
+constexpr const char* kScene = "Scene";
+constexpr const char* kClutter = "Clutter";
+
+// A scene's PCD (with its ground truth in field `label`) to path, or to stdout for -; its summary
+// line goes to stdout, or to stderr when stdout holds the cloud.
+void write_scene(const std::string& path, const proxseg::Frame& frame, const std::string& about) {
+  if (path == "-") {
+    std::cout << proxseg::pcd_bytes(frame, {{"label", frame.label}}) << std::flush;
+    say() << "<stdout>: " << about << "\n";
+    return;
+  }
+  make_parent(path);
+  proxseg::write_pcd(path, frame, {{"label", frame.label}});
+  std::cout << path << ": " << about << "\n";
+}
+}  // namespace
+
 void add_synth(CLI::App& app, SynthOptions& o) {
   auto* cmd = app.add_subcommand("synth", tool_about("synth"));
-  cmd->add_option("-o,--output", o.output, "Output PCD path (--count: a folder)")->required();
-  cmd->add_option("--seed", o.seed, "Seed of the depth noise (--clutter: of the scene)");
-  cmd->add_option("--noise", o.noise, "Depth noise std at 1 m, metres");
-  auto* clutter_flag = cmd->add_flag(
-      "--clutter", o.clutter,
-      "A seeded cluttered tabletop instead (5-15 LINEMOD meshes, boxes, cylinders; standing, "
-      "lying, touching, stacked, leaning; docs/clutter.md); --seed then seeds the whole scene");
+  cmd->add_option("-o,--output", o.output,
+                  "Output PCD path (--count: a folder); - writes the PCD to stdout")
+      ->required()
+      ->group(group::kOutput);
+  cmd->add_option("--seed", o.seed, "Seed of the depth noise (--clutter: of the scene)")
+      ->group(kScene);
+  cmd->add_option("--noise", o.noise, "Depth noise std at 1 m, metres")->group(kScene);
+  auto* clutter_flag =
+      cmd->add_flag("--clutter", o.clutter,
+                    "A seeded cluttered tabletop instead (5-15 LINEMOD meshes, boxes, cylinders; "
+                    "standing, lying, touching, stacked, leaning; docs/clutter.md); --seed then "
+                    "seeds the whole scene")
+          ->group(kClutter);
   auto* count_opt =
       cmd->add_option("--count", o.count,
                       "With --clutter: write N scenes, seeds --first-seed.., to the folder "
                       "-o as clutter-SSS.pcd")
           ->check(CLI::Range(1u, 1000000u))
-          ->needs(clutter_flag);
+          ->needs(clutter_flag)
+          ->group(kClutter);
   cmd->add_option("--first-seed", o.first_seed, "With --count: the first seed (1)")
-      ->needs(count_opt);
+      ->needs(count_opt)
+      ->group(kClutter);
   cmd->add_option("--kind", o.kind,
                   "With --clutter: clutter (default), piles (boxes face to face and stacked) or "
                   "occlusion (a low camera over a dense layout); --count names files KIND-SSS.pcd")
       ->check(CLI::IsMember({"clutter", "piles", "occlusion"}))
-      ->needs(clutter_flag);
+      ->needs(clutter_flag)
+      ->group(kClutter);
   cmd->add_option("--models", o.models,
                   "With --clutter: folder of LINEMOD obj_*.ply meshes in mm (default "
                   "../shared/data/lmo/models if present, else boxes and cylinders only)")
-      ->needs(clutter_flag);
+      ->needs(clutter_flag)
+      ->group(kClutter);
   count_opt->excludes(cmd->get_option("--seed"));
+  help_last(cmd);
 }
 
 namespace {
@@ -61,12 +91,13 @@ int run_clutter(const SynthOptions& o) {
   if (o.count == 0) {
     p.seed = o.seed;
     const proxseg::ClutterScene scene = proxseg::clutter_layout_scene(p);
-    make_parent(o.output);
-    proxseg::write_pcd(o.output, scene.frame, {{"label", scene.frame.label}});
-    std::cout << o.output << ": " << o.kind << " scene seed " << o.seed << ", "
-              << proxseg::clutter_summary(scene) << ", ground truth in field 'label'\n";
+    write_scene(o.output, scene.frame,
+                o.kind + " scene seed " + std::to_string(o.seed) + ", " +
+                    proxseg::clutter_summary(scene) + ", ground truth in field 'label'");
     return 0;
   }
+  if (o.output == "-")
+    throw CLI::ValidationError("--count writes a folder of scenes: -o DIR, not - (stdout)");
   if (o.first_seed + static_cast<std::uint64_t>(o.count) - 1 > 0xffffffffull)
     throw InputError("--first-seed, --count: the seeds must stay below 2^32");
   const std::filesystem::path dir(o.output);
@@ -89,7 +120,7 @@ int run_clutter(const SynthOptions& o) {
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << o.output << ": " << done << " " << o.kind << " scenes (seeds " << o.first_seed << "-"
             << o.first_seed + (done > 0 ? done - 1 : 0) << "), " << counted(objects, "object")
-            << ", " << s << " s" << (interrupted() ? " (interrupted)" : "") << "\n";
+            << ", " << human_time(s) << (interrupted() ? " (interrupted)" : "") << "\n";
   return interrupted() ? kInterruptedExit : 0;
 }
 
@@ -99,10 +130,10 @@ int run_synth(const SynthOptions& o) {
   if (!(o.noise >= 0 && o.noise < 1)) throw InputError("--noise: expected metres in [0, 1)");
   if (o.clutter) return run_clutter(o);
   const proxseg::Frame frame = proxseg::synth_scene({o.seed, o.noise});
-  make_parent(o.output);
-  proxseg::write_pcd(o.output, frame, {{"label", frame.label}});
-  std::cout << o.output << ": synthetic scene " << frame.width << "x" << frame.height << ", "
-            << frame.valid_count() << " valid points, ground truth in field 'label'\n";
+  write_scene(o.output, frame,
+              "synthetic scene " + std::to_string(frame.width) + "x" +
+                  std::to_string(frame.height) + ", " + std::to_string(frame.valid_count()) +
+                  " valid points, ground truth in field 'label'");
   return 0;
 }
 

@@ -1,14 +1,20 @@
 // `proxseg view PREFIX`: the 3D page of a result (io/view_page.hpp), PREFIX.html beside its
-// files; `proxseg view OUT/`: the page of a batch folder (io/batch_page.hpp), OUT/index.html.
+// files; `proxseg view OUT/`: the page of a batch folder (io/batch_page.hpp), OUT/index.html;
+// -o - writes the page to stdout.
 #include <proxseg/io/batch_page.hpp>
 #include <proxseg/io/cloud_io.hpp>
 #include <proxseg/io/view_page.hpp>
 
 #include <filesystem>
+#include <iostream>
 
 #include "cli.hpp"
 
 namespace cli {
+
+namespace {
+constexpr const char* kPage = "Page";
+}  // namespace
 
 void add_view(CLI::App& app, ViewCommandOptions& o) {
   auto* cmd = app.add_subcommand(
@@ -20,16 +26,24 @@ void add_view(CLI::App& app, ViewCommandOptions& o) {
                   "PREFIX.pcd), or a batch's folder")
       ->required();
   cmd->add_option("-o,--output", o.output,
-                  "The page's file (default PREFIX.html, or OUT/index.html for a batch)");
+                  "The page's file (default PREFIX.html, or OUT/index.html for a batch); - for "
+                  "stdout")
+      ->group(group::kOutput);
   cmd->add_option("--max-points", o.max_points,
                   "Show every k-th point of larger clouds (the page says so); 0 = all")
-      ->capture_default_str();
-  cmd->add_option("--title", o.title, "The page's title (default the prefix's name)");
+      ->capture_default_str()
+      ->group(kPage);
+  cmd->add_option("--title", o.title, "The page's title (default the prefix's name)")->group(kPage);
+  help_last(cmd);
 }
 
 namespace {
 
 int write_page(const std::string& path, const std::string& page) {
+  if (path == "-") {
+    std::cout << page;
+    return 0;
+  }
   make_parent(path);
   proxseg::write_file_atomic(path, page);
   say() << path << ": " << page.size() / 1024 << " KiB\n";

@@ -22,34 +22,80 @@ def help_of(program, *words):
 
 
 def parse(text):
-    """(description, usage, [(names, type, help)], [(command, help)]) of one --help."""
+    """(description, usage, [[names, type, help, heading]], [(command, help)]) of one --help.
+
+    Options are listed under headings (CLI11's option groups: "Input:", "Output:", ...,
+    "Positionals:"), commands under "Subcommands:"."""
     lines = text.splitlines()
     description = lines[0].strip() if lines and not lines[0].startswith("Usage") else ""
     usage = next((l[len("Usage: "):] for l in lines if l.startswith("Usage: ")), "")
     options, commands, section, last = [], [], None, None
     for line in lines:
-        if re.match(r"^(Options|Positionals|Subcommands):", line):
-            section = line.rstrip(":")
+        heading = re.match(r"^(\S[^:]*):$", line)
+        if heading and not line.startswith("Usage"):
+            section = heading.group(1)
             continue
-        if section in ("Options", "Positionals"):
+        if section == "Subcommands":
+            m = re.match(r"^  (\S+)\s+(.*)$", line)
+            if m:
+                commands.append((m.group(1), m.group(2)))
+        elif section is not None:
             m = re.match(r"^  (\S.*?)(?:\s{2,}(.*))?$", line)
             if m:
                 spec, text_ = m.group(1), m.group(2) or ""
                 names = spec.split(" ")[0]
                 kind = " ".join(spec.split(" ")[1:])
-                last = [names, kind, text_]
-                (options if section == "Options" else options).append(last)
+                last = [names, kind, text_, section]
+                options.append(last)
             elif line.startswith("    ") and last is not None:
                 last[2] = (last[2] + " " + line.strip()).strip()
-        elif section == "Subcommands":
-            m = re.match(r"^  (\S+)\s+(.*)$", line)
-            if m:
-                commands.append((m.group(1), m.group(2)))
     return description, usage, options, commands
+
+
+# Real uses, each a command line and what it does (the man page's EXAMPLES). The first ones need
+# nothing but proxseg: the CLI tests run them as written.
+EXAMPLES = [
+    ("Write the built-in synthetic tabletop scene (ground truth in field label) and segment it: "
+     "out/scene.pcd, out/scene.png and out/scene.json.",
+     ["proxseg synth -o scene.pcd", "proxseg segment scene.pcd -o out/scene"]),
+    ("Segment a cloud from standard input (PCD or PLY, told apart by content) and print only "
+     "the JSON report on stdout; nothing is written.",
+     ["proxseg synth -o - | proxseg segment - --outputs json -o - > report.json"]),
+    ("Compute without writing any file; print the one-line summary.",
+     ["proxseg segment scene.pcd --outputs none"]),
+    ("The 3D page of a result, one HTML file that any browser opens.",
+     ["proxseg view out/scene"]),
+    ("Build a model database from view clouds, or render views of a coloured mesh in "
+     "millimetres, then name every object of a scene.",
+     ["proxseg db add models --name mug mug-1.pcd mug-2.pcd",
+      "proxseg db render models --name ape --units mm obj_000001.ply",
+      "proxseg recognize scene.pcd --db models -o out/scene"]),
+    ("Segment a whole dataset, frames two at a time, writing only 16-bit label images and "
+     "reports; shard 1 of 4 of it, resumable; then merge the shards' summaries.",
+     ["proxseg segment --batch frames/ -o out/ --outputs labels,json --threads 2",
+      "proxseg segment --batch frames/ -o out/ --shard 1/4 --resume",
+      "proxseg summary out/"]),
+    ("An RGB-D pair of a YCB-Video frame, with its camera from the meta file.",
+     ["proxseg segment --colour 000001-color.png --depth 000001-depth.png "
+      "--meta 000001-meta.json -o out/000001"]),
+    ("Every parameter, its default, range, the paper's value and its flag.",
+     ["proxseg params segmentation"]),
+]
 
 
 def roff(text):
     return text.replace("\\", "\\\\").replace("-", "\\-").replace("'", "\\(aq")
+
+
+def option_list(options):
+    """The options of one --help under their headings (the option groups)."""
+    out, heading = [], None
+    for names, kind, text, group in options:
+        if group != heading:
+            heading = group
+            out += [".PP", f"\\fI{roff(group)}:\\fR"]
+        out += [".TP", f"\\fB{roff(names)}\\fR {roff(kind)}".rstrip(), roff(text)]
+    return out
 
 
 def man_page(program, tree, version):
@@ -66,8 +112,7 @@ def man_page(program, tree, version):
                 "pose. Logs go to stderr, results to stdout or files. Exit status: 0 success, "
                 "1 bad input, 2 usage error, 130 an interrupted batch."),
            ".SH OPTIONS"]
-    for names, kind, text in tree[()][2]:
-        out += [".TP", f"\\fB{roff(names)}\\fR {roff(kind)}".rstrip(), roff(text)]
+    out += option_list(tree[()][2])
     out.append(".SH COMMANDS")
     for words in sorted(tree):
         if not words:
@@ -75,10 +120,12 @@ def man_page(program, tree, version):
         description, usage, options, commands = tree[words]
         out += [".SS " + roff("proxseg " + " ".join(words)), roff(description),
                 ".PP", "Usage: " + roff(usage)]
-        for names, kind, text in options:
-            if names == "-h,--help":
-                continue
-            out += [".TP", f"\\fB{roff(names)}\\fR {roff(kind)}".rstrip(), roff(text)]
+        out += option_list([o for o in options if o[0] != "-h,--help"])
+    out.append(".SH EXAMPLES")
+    for what, lines in EXAMPLES:
+        out += [".PP", roff(what), ".PP", ".RS", ".nf"]
+        out += [roff(line) for line in lines]
+        out += [".fi", ".RE"]
     out += [".SH FILES", roff("docs/parameters.md lists every parameter (proxseg params); "
                               "docs/batch.md the batch outputs; docs/database.md the model "
                               "database file."),
@@ -90,7 +137,7 @@ def completion(tree):
     cases = []
     for words in sorted(tree, key=len, reverse=True):
         _, _, options, commands = tree[words]
-        flags = sorted({n for names, _, _ in options for n in names.split(",") if n.startswith("-")})
+        flags = sorted({n for names, *_ in options for n in names.split(",") if n.startswith("-")})
         subs = [c for c, _ in commands]
         key = " ".join(words)
         cases.append(f'    "{key}") words="{" ".join(subs + flags)}" ;;')

@@ -21,6 +21,17 @@ Frame read_pcd(const std::string& path, const std::string& label_field = "label"
 Frame read_ply(const std::string& path);
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
+// What errors call standard input: "<stdin>".
+inline constexpr char kStdinName[] = "<stdin>";
+// A PCD or PLY cloud held in memory, told apart by its content: a PLY starts with the line "ply",
+// a PCD with its header (comment lines, then VERSION, FIELDS, ...). Read as read_pcd and read_ply
+// read files; InputError naming `name` for anything else.
+Frame read_point_cloud_bytes(const std::string& bytes, const std::string& name);
+// Standard input as read_point_cloud_bytes, errors naming "<stdin>" (the command line's "-").
+// Its first line is checked before the rest is read, so that input that is neither format (an
+// endless stream too) is refused at once, and of a PCD only as much as its header promises is
+// read; a terminal is refused (nothing is piped in).
+Frame read_point_cloud_stdin();
 // A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models) or a textured Wavefront
 // OBJ (read_obj in obj_io.hpp, its texture sampled at vertices at most 2 mm apart); coordinates
 // are multiplied by scale (0.001 for millimetre models) so that the mesh is in metres.

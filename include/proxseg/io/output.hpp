@@ -23,10 +23,11 @@ struct OutputSet {
   bool json = true;   // PREFIX.json: the report
   bool html = false;  // PREFIX.html: the 3D page (view_page.hpp)
 };
-// "labels,pcd,png,json,html": any of them, comma-separated, or "all". InputError naming the field
-// and the unknown word, or for an empty list.
+// "labels,pcd,png,json,html": any of them, comma-separated, or "all", or "none" (alone: no file,
+// the results computed and reported all the same). InputError naming the field and the unknown
+// word, or for an empty list.
 OutputSet parse_outputs(const std::string& list, const std::string& field = "--outputs");
-// The canonical list, in the order labels,pcd,png,json,html.
+// The canonical list, in the order labels,pcd,png,json,html; "none" for no output.
 std::string to_string(const OutputSet& outputs);
 // The files a segmentation (recognition = false) or the recognition of a scene writes for these
 // outputs.

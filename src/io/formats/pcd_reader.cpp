@@ -1,7 +1,8 @@
 // PCD reading (read_pcd in cloud_io.hpp): after the header (pcd_header.hpp), the fields a frame
 // is read from (x y z, the packed colour, the label field) and the point data, DATA ascii (one
 // checked line per point), binary (points one after another) or binary_compressed (LZF, fields
-// one after another, lzf.hpp). Only as many bytes as the header promises are read.
+// one after another, lzf.hpp). Only as many bytes as the header promises are read, from a file or
+// from any other source of bytes (pcd_reader.hpp: standard input).
 #include <proxseg/io/cloud_io.hpp>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 
 #include "io/formats/lzf.hpp"
 #include "io/formats/pcd_header.hpp"
+#include "io/formats/pcd_reader.hpp"
 #include "io/formats/text_fields.hpp"
 #include "io/formats/text_numbers.hpp"
 #include "io/input_file.hpp"
@@ -292,12 +294,26 @@ Frame read_pcd_data(const std::string& path, const std::string& text,
 }  // namespace
 
 Frame read_pcd(const std::string& path, const std::string& label_field) {
+  std::string text;
+  return detail::read_pcd_from(
+      path,
+      [&](std::size_t n) -> const std::string& { return text = detail::read_input_file(path, n); },
+      label_field);
+}
+
+namespace detail {
+
+Frame read_pcd_from(const std::string& name,
+                    const std::function<const std::string&(std::size_t)>& first,
+                    const std::string& label_field) {
   // The header first; then only as many bytes as it promises (a file far longer than its header
   // says, or no PCD at all, is not read to its end).
-  std::string text = detail::read_input_file(path, kPcdHeaderBytes);
-  const std::size_t want = pcd_promised_bytes(path, text);
-  if (want > text.size()) text = detail::read_input_file(path, want);
-  return read_pcd_data(path, text, label_field);
+  const std::string* text = &first(kPcdHeaderBytes);
+  const std::size_t want = pcd_promised_bytes(name, *text);
+  if (want > text->size()) text = &first(want);
+  return read_pcd_data(name, *text, label_field);
 }
+
+}  // namespace detail
 
 }  // namespace proxseg

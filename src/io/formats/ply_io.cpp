@@ -1,7 +1,9 @@
-// PLY reading: the header, then ascii or binary vertices, colours and faces (ply_io.hpp).
+// PLY reading: the header, then ascii or binary vertices, colours and faces, and the point cloud
+// of the vertices (ply_io.hpp).
 #include "io/formats/ply_io.hpp"
 
 #include "io/formats/text_fields.hpp"
+#include "io/reader_errors.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -279,6 +281,33 @@ PlyData parse_ply(const std::string& bytes) {
   }
   if (!have_vertex) bad("PLY has no vertex element (expected 'element vertex N')");
   return out;
+}
+
+// Colours as Open3D's reader gave them (the stored value / 255, then back to 0..255).
+Frame ply_cloud(const std::string& path, const PlyData& ply) {
+  if (ply.vertices.empty()) fail(path, "PLY has no vertices (expected at least one point)");
+  if (ply.vertices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    fail(path, "PLY has too many vertices (expected < 2^31)");
+  Frame frame;
+  const std::size_t n = ply.vertices.size();
+  frame.width = static_cast<int>(n);
+  frame.height = 1;
+  frame.xyz.resize(n);
+  frame.rgb.resize(ply.colours.empty() ? 0 : n);  // no colours: an XYZ-only cloud
+  auto to_u8 = [](double stored) {
+    const double c = stored / 255.0;
+    if (!(c > 0)) return std::uint8_t{0};
+    if (c >= 1) return std::uint8_t{255};
+    return static_cast<std::uint8_t>(std::lround(c * 255.0));
+  };
+  for (std::size_t i = 0; i < n; ++i) frame.xyz[i] = ply.vertices[i].cast<float>();
+  for (std::size_t i = 0; i < frame.rgb.size(); ++i) {
+    const auto& c = ply.colours[i];
+    frame.rgb[i] = {to_u8(c[0]), to_u8(c[1]), to_u8(c[2])};
+  }
+  if (frame.valid_count() == 0)
+    fail(path, "has no valid points (all vertices have NaN or infinite coordinates)");
+  return frame;
 }
 
 }  // namespace proxseg::detail

@@ -1,7 +1,9 @@
 // PLY reading (ascii, binary little and big endian): the vertices, their colours and the faces,
-// as Open3D's reader gives them, without loading Open3D (the segmentation path reads PLY clouds).
-// Private to the library.
+// as Open3D's reader gives them, and the point cloud they make, without loading Open3D (the
+// segmentation path reads PLY clouds). Private to the library.
 #pragma once
+#include <proxseg/core/frame.hpp>
+
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -20,5 +22,10 @@ struct PlyData {
 // or element and record, what was expected) for anything malformed or truncated; counts are
 // checked against the bytes left before anything of that size is allocated.
 PlyData parse_ply(const std::string& bytes);
+
+// The point cloud of a parsed PLY (read_ply): unorganized, its colours as Open3D's reader gave
+// them (the stored value / 255, then back to 0..255), none when the file has none. InputError
+// naming `name` when it has no vertex or no valid one.
+Frame ply_cloud(const std::string& name, const PlyData& ply);
 
 }  // namespace proxseg::detail

@@ -133,8 +133,9 @@ nlohmann::json build_info() {
 
 OutputSet parse_outputs(const std::string& list, const std::string& field) {
   if (list.empty())
-    throw InputError(field + ": no outputs (expected labels, pcd, png, json, html or all)");
+    throw InputError(field + ": no outputs (expected labels, pcd, png, json, html, all or none)");
   OutputSet o{false, false, false, false, false};
+  if (list == "none") return o;
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t end = std::min(list.find(',', start), list.size());
@@ -152,9 +153,12 @@ OutputSet parse_outputs(const std::string& list, const std::string& field) {
       o.html = true;
     else if (word == "all")
       o = OutputSet{true, true, true, true, true};
+    else if (word == "none")
+      throw InputError(field + ": none goes alone (it writes nothing), got \"" + list + "\"");
     else
       throw InputError(field + ": unknown output \"" + word +
-                       "\" (expected labels, pcd, png, json, html or all, comma-separated)");
+                       "\" (expected labels, pcd, png, json, html or all, comma-separated; or "
+                       "none)");
   }
   return o;
 }
@@ -165,7 +169,7 @@ std::string to_string(const OutputSet& o) {
        {std::pair{o.labels, "labels"}, std::pair{o.pcd, "pcd"}, std::pair{o.png, "png"},
         std::pair{o.json, "json"}, std::pair{o.html, "html"}})
     if (on) s += (s.empty() ? "" : ",") + std::string(name);
-  return s;
+  return s.empty() ? "none" : s;
 }
 
 namespace {
