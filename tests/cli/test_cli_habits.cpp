@@ -1,4 +1,4 @@
-// The CLI's habits (README, "Command line"): one error style with suggestions, one spelling per
+// The CLI's habits (docs/cli.md): one error style with suggestions, one spelling per
 // concept with the other accepted, unit sanity for meshes, one numbering of candidates and
 // objects, plurals, the resume note, --quiet and --verbose.
 #include <proxseg/io/cloud_io.hpp>
