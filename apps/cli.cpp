@@ -33,6 +33,10 @@ const char* tool_about(const std::string& name) {
 void describe_app(CLI::App& app) {
   app.name("proxseg");
   app.description("proxseg: unsupervised RGB-D segmentation and object recognition");
+  // The docs/*.md that the help texts name, where an installed proxseg has them.
+  app.footer("Documentation (the docs/*.md named above, the API references): "
+             "/usr/share/doc/proxseg-doc (Debian package proxseg-doc), or share/doc/proxseg-doc "
+             "under the install prefix; man proxseg.");
   app.set_version_flag("--version", std::string("proxseg ") + proxseg::version() + " (commit " +
                                         proxseg::git_commit() + ")");
   app.require_subcommand(1);
