@@ -113,7 +113,7 @@ test-numerics: build seg-dev
 # The Debian packages (CPack; CMakeLists.txt says how they are split) with the API references
 # built first for proxseg-doc: $(BUILD)/<package>_<version>-1_<arch>.deb, installable with
 # `apt install ./$(BUILD)/<package>_*.deb`. The version is project()'s in CMakeLists.txt.
-VERSION = $(shell sed -n 's/^project(proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
+VERSION = $(shell sed -n 's/^project.proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 package: build
 	@cmake --build $(BUILD) --target proxseg_docs >/dev/null
 	@cd $(BUILD) && cpack -G DEB >/dev/null
