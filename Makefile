@@ -112,11 +112,12 @@ test-numerics: build seg-dev
 
 # The Debian packages (CPack; CMakeLists.txt says how they are split) with the API references
 # built first for proxseg-doc: $(BUILD)/<package>_<version>-1_<arch>.deb, installable with
-# `apt install ./$(BUILD)/<package>_*.deb`. The version is project()'s in CMakeLists.txt.
+# `apt install ./$(BUILD)/<package>_*.deb`; cpack's log in $(BUILD)/cpack.log. The version is
+# project()'s in CMakeLists.txt.
 VERSION = $(shell sed -n 's/^project.proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 package: build
 	@cmake --build $(BUILD) --target proxseg_docs >/dev/null
-	@cd $(BUILD) && cpack -G DEB >/dev/null
+	@cd $(BUILD) && { cpack -G DEB >cpack.log 2>&1 || { cat cpack.log; exit 1; }; }
 	@ls -1 $(BUILD)/*_$(VERSION)-*_*.deb
 
 # `pip install .` as a Python user does it: a fresh virtual environment (system site packages,
