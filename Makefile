@@ -7,8 +7,9 @@
 #               AddressSanitizer and UndefinedBehaviorSanitizer
 #   make test-numerics  two more builds (no vectorisation or fused multiply-add; AVX-512) answer
 #               as the default build does on mOSD learn, YCB-Video and the generated sets
-#   make package  the Debian packages: libproxseg0, libproxseg-dev (headers, CMake and pkg-config
-#               files), proxseg (the CLI, man page, completion) and python3-proxseg
+#   make package  the Debian packages: one per library (libproxseg-core0.2, -io0.2,
+#               -recognition0.2, -eval0.2), libproxseg-dev (headers, CMake and pkg-config
+#               files), proxseg (the CLI, man page, completion), python3-proxseg and proxseg-doc
 #   make docs   the C++ (Doxygen) and Python API references, and docs/parameters.md
 #   make test-pip  `pip install .` into a fresh virtual environment, import, segment a scene
 #   make fuzz   libFuzzer on every reader, FUZZ_TIME seconds each (docs/robustness.md)
@@ -109,11 +110,15 @@ test-numerics: build seg-dev
 	@$(PYTHON) scripts/compare-builds.py --data $(DATA) --generated $(SEGDEV) --work $(NUMERICS) \
 	  $(SCALAR_RUN) default=$(BUILD) scalar=$(BUILD)-scalar v4=$(BUILD)-v4
 
-# A Debian package of the library, headers, CLI, CMake package and proxseg.pc (CPack):
-# $(BUILD)/proxseg_<version>_<arch>.deb, installable with `apt install ./$(BUILD)/proxseg_*.deb`.
+# The Debian packages (CPack; CMakeLists.txt says how they are split) with the API references
+# built first for proxseg-doc: $(BUILD)/<package>_<version>-1_<arch>.deb, installable with
+# `apt install ./$(BUILD)/<package>_*.deb`; cpack's log in $(BUILD)/cpack.log. The version is
+# project()'s in CMakeLists.txt.
+VERSION = $(shell sed -n 's/^project.proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 package: build
-	@cd $(BUILD) && cpack -G DEB >/dev/null
-	@ls -1 $(BUILD)/*_$$(sed -n 's/^project(proxseg VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)_*.deb
+	@cmake --build $(BUILD) --target proxseg_docs >/dev/null
+	@cd $(BUILD) && { cpack -G DEB >cpack.log 2>&1 || { cat cpack.log; exit 1; }; }
+	@ls -1 $(BUILD)/*_$(VERSION)-*_*.deb
 
 # `pip install .` as a Python user does it: a fresh virtual environment (system site packages,
 # for numpy and Debian's setuptools; no package index), the module built by setup.py with CMake
@@ -128,11 +133,9 @@ test-pip: deps
 
 # The references: C++ (Doxygen, public headers, warnings are errors) into $(BUILD)/docs/cpp,
 # Python (pydoc) into $(BUILD)/docs/python, and docs/parameters.md from the parameter table.
+# The target proxseg_docs (CMakeLists.txt) makes both; proxseg-doc installs them.
 docs: build
-	@rm -rf $(BUILD)/docs && mkdir -p $(BUILD)/docs/cpp $(BUILD)/docs/python
-	@PROXSEG_DOCS_OUT=$(abspath $(BUILD))/docs/cpp doxygen docs/Doxyfile
-	@cd $(BUILD)/docs/python && PYTHONPATH=$(abspath $(BUILD))/python /usr/bin/python3 -W error \
-	  -m pydoc -w proxseg proxseg.dask >/dev/null
+	@cmake --build $(BUILD) --target proxseg_docs >/dev/null
 	@$(BUILD)/proxseg params --markdown > docs/parameters.md
 	@echo "API reference: $(BUILD)/docs/cpp/html/index.html, $(BUILD)/docs/python/proxseg.html"
 

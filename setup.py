@@ -3,6 +3,7 @@ proxseg libraries static, so that the module is the package's only compiled file
 library path; Open3D, OpenCV and the rest from the system, as the CMake build finds them."""
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -12,6 +13,16 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 ROOT = Path(__file__).resolve().parent
+
+
+def version() -> str:
+    """The project's version, written once: in CMakeLists.txt's project() (pyproject.toml lists
+    the version as dynamic)."""
+    text = (ROOT / "CMakeLists.txt").read_text(encoding="utf-8")
+    m = re.search(r"^project\(proxseg VERSION (\d+\.\d+\.\d+)\b", text, re.MULTILINE)
+    if m is None:
+        sys.exit("setup.py: no project(proxseg VERSION x.y.z) in CMakeLists.txt")
+    return m.group(1)
 
 
 class CMakeExtension(Extension):
@@ -36,4 +47,5 @@ class CMakeBuild(build_ext):
         shutil.copy2(built, target)
 
 
-setup(ext_modules=[CMakeExtension("proxseg._proxseg")], cmdclass={"build_ext": CMakeBuild})
+setup(version=version(), ext_modules=[CMakeExtension("proxseg._proxseg")],
+      cmdclass={"build_ext": CMakeBuild})

@@ -126,9 +126,13 @@ def man_page(program, tree, version):
         out += [".PP", roff(what), ".PP", ".RS", ".nf"]
         out += [roff(line) for line in lines]
         out += [".fi", ".RE"]
-    out += [".SH FILES", roff("docs/parameters.md lists every parameter (proxseg params); "
-                              "docs/batch.md the batch outputs; docs/database.md the model "
-                              "database file."),
+    out += [".SH FILES", roff("/usr/share/doc/proxseg-doc/ (Debian package proxseg-doc; "
+                              "share/doc/proxseg-doc/ under another install prefix, docs/ in the "
+                              "source) holds the documentation the commands name as docs/: "
+                              "parameters.md lists every parameter (proxseg params), batch.md "
+                              "the batch outputs, database.md the model database file, "
+                              "method.md the method; api/cpp/index.html and "
+                              "api/python/proxseg.html are the API references."),
             ".SH SEE ALSO", "pcl_viewer(1)"]
     return "\n".join(out) + "\n"
 

@@ -8,7 +8,8 @@
 set -euo pipefail
 
 # dpkg-dev: dpkg-shlibdeps, which `make package` uses to declare the .debs' dependencies;
-# man-db reads the man page in the package test. doxygen: `make docs`.
+# man-db reads the man page in the package test, lintian checks the .debs there. doxygen:
+# `make docs` and proxseg-doc.
 # The Python module: python3-dev, pybind11-dev and python3-numpy build it; pytest runs its tests;
 # python3-open3d (Open3D interop), python3-matplotlib and python3-tqdm (the examples) are tested
 # when present and installed here so that they are. python3-distributed and python3-dask run
@@ -18,7 +19,7 @@ set -euo pipefail
 # headless Chromium (python/tests/chromium.py drives it over its DevTools pipe).
 packages=(cmake g++ make pkg-config libopen3d-dev libopencv-dev libeigen3-dev libboost-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libpng-dev libjpeg-dev libsqlite3-dev
-  zlib1g-dev dpkg-dev man-db doxygen chromium
+  zlib1g-dev dpkg-dev man-db lintian doxygen chromium
   python3-dev pybind11-dev python3-numpy python3-pytest python3-open3d python3-matplotlib
   python3-tqdm python3-distributed python3-dask python3-mypy python3-venv python3-pip
   python3-setuptools)
