@@ -178,6 +178,11 @@ PY
       img/rec-roc.png api/cpp/index.html api/python/proxseg.html; do
       [ -s "$doc/$f" ] || { echo "consumer: proxseg-doc lacks $f" >&2; exit 1; }
     done
+    # The installed README's links to the pages resolve beside it.
+    for f in $(grep -o '](\(img/\)\?[a-z_-]*\.\(md\|png\))' "$doc/README.md" | tr -d '()]'); do
+      [ -s "$doc/$f" ] || { echo "consumer: proxseg-doc's README links $f, not there" >&2; exit 1; }
+    done
+    grep -q '](cli.md)' "$doc/README.md"
     pydir=$usr/lib/python3/dist-packages
     [ -f "$pydir/proxseg/__init__.py" ]
     PYTHONPATH=$pydir "$python" -c "import proxseg; help(proxseg.segment)" >"$work/help.txt"
