@@ -84,7 +84,7 @@ def test_shape_wins_and_a_cloud_without_a_grid_warns_how_to_keep_it():
     assert not loose.organized and loose.shape == (307200,)
     assert len(said) == 1 and said[0].filename == __file__
     text = str(said[0].message)
-    assert "shape=(H, W)" in text and "x the time of the organized frame" in text
+    assert "shape=(H, W)" in text and "times the CPU time of the organized frame" in text
     assert "about 3x" not in text
 
 
