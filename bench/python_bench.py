@@ -39,6 +39,7 @@ def main():
     ap.add_argument("--calls", type=int, default=3, help="paired calls per scene per round")
     ap.add_argument("--frames", type=int, default=100, help="frames of part 2")
     args = ap.parse_args()
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())  # before the run: a shared machine
     build = Path(args.build).resolve()
     sys.path.insert(0, str(build / "python"))
     import proxseg
@@ -106,12 +107,12 @@ def main():
     clouds = open3d_clouds(proxseg, scenes, args.rounds)
     result = {"one_call": one_call, "loop": hundred, "open3d": clouds,
               "proxseg": proxseg.build_info(),
-              "cores": os.cpu_count(), "scenes": [s.name for s in scenes]}
+              "cores": os.cpu_count(), "load_before": load, "scenes": [s.name for s in scenes]}
     Path(args.out).mkdir(parents=True, exist_ok=True)
     Path(args.out, "python.json").write_text(json.dumps(result, indent=2) + "\n")
     md = f"""## Python module: overhead against C++ and the CLI
 
-Python module against the C++ library and the CLI (`make bench-python`, one run, {os.cpu_count()} cores, commit {result['proxseg']['commit'][:7]}).
+Python module against the C++ library and the CLI (`make bench-python`, one run, {os.cpu_count()} cores, commit {result['proxseg']['commit'][:7]}; load average {load} before the run).
 
 | measure | C++ / CLI | Python | ratio |
 |---|---|---|---|

@@ -24,10 +24,11 @@ SENSOR_SIZES: Tuple[Tuple[int, int], ...] = (
 # about one half for points in any other order.
 _GRID_AGREEMENT = 0.99
 
-# segment() of a cloud without its grid against the organized frame: the medians of `make
-# bench-python` (bench/python_bench.py, "Open3D clouds against paths": 6 mOSD learn scenes, 2
-# busy cores): 1457 ms CPU against 37 ms (39x), 2.8 s wall against 88 ms (32x).
-_UNORGANIZED_SLOWDOWN = ("about 40 times the CPU time of the organized frame (measured: 1.5 s "
+# segment() of a cloud without its grid against the organized frame: the medians of two runs of
+# `make bench-python` (bench/python_bench.py, "Open3D clouds against paths": 6 mOSD learn
+# scenes, 2 busy cores): CPU 1457 ms against 37 ms (39x) and 1336 ms against 43 ms (31x); wall
+# 32x and 16x.
+_UNORGANIZED_SLOWDOWN = ("30 to 40 times the CPU time of the organized frame (measured: 1.3-1.5 s "
                          "against 0.04 s")
 
 _warned_unorganized = False
