@@ -25,7 +25,8 @@ def read_point_cloud(path: PathLike, *, label_field: str = "label") -> Frame:
         optionally rgb/rgba) or ``.ply`` (vertices, optionally with colours). A cloud without
         colour is read without it (``frame.rgb is None``).
     label_field : str
-        An integer PCD field kept as ``frame.label`` (e.g. ``"instance"`` of the CLI's output).
+        An integer PCD field or PLY vertex property kept as ``frame.label`` (e.g.
+        ``"instance"`` of the CLI's output or of :func:`write_point_cloud`'s ``fields``).
 
     Returns
     -------

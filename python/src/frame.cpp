@@ -257,11 +257,13 @@ void bind_frame_io(py::module_& m) {
       [](const std::string& path, const std::string& label_field) {
         py::gil_scoped_release release;
         if (lower_extension(path) == ".pcd") return read_pcd(path, label_field);
+        if (lower_extension(path) == ".ply") return read_ply(path, label_field);
         return read_point_cloud(path);
       },
       py::arg("path"), py::arg("label_field") = "label",
       "Reads a .pcd (ascii, binary, binary_compressed; organized or not) or .ply point cloud.\n"
-      "label_field: the integer PCD field kept as Frame.label (e.g. 'instance').");
+      "label_field: the integer PCD field or PLY vertex property kept as Frame.label (e.g. "
+      "'instance').");
   m.def(
       "read_rgbd",
       [](const std::string& colour, const std::string& depth, const std::string& meta,

@@ -198,8 +198,9 @@ def test_ply_round_trips_through_proxseg_and_open3d(learn17, tmp_path):
     ply = tmp_path / "scene.ply"
     proxseg.write_point_cloud(ply, frame, fields={"instance": result.instances,
                                                   "label": result.labels})
-    back = proxseg.read_point_cloud(ply)
+    back = proxseg.read_point_cloud(ply, label_field="instance")
     assert back.shape == (valid.sum(),)
+    assert np.array_equal(back.label, result.instances.reshape(-1)[valid])
     assert np.array_equal(back.xyz, flat[valid]) and np.array_equal(back.rgb, rgb[valid])
     legacy = o3d.io.read_point_cloud(str(ply))
     assert np.array_equal(np.asarray(legacy.points), flat[valid].astype(np.float64))

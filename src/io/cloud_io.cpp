@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "io/formats/ply_io.hpp"
 #include "io/input_file.hpp"
@@ -36,9 +37,9 @@ std::string lower_extension(const std::string& path) {
 }
 
 // The PLY file at path (a regular file), parsed; InputError naming it when it is malformed.
-detail::PlyData read_ply_data(const std::string& path) {
+detail::PlyData read_ply_data(const std::string& path, const std::string& label_property = "") {
   try {
-    return detail::parse_ply(detail::read_input_file(path));
+    return detail::parse_ply(detail::read_input_file(path), label_property);
   } catch (const std::runtime_error& e) {
     fail(path, one_line(e.what()));
   }
@@ -47,9 +48,9 @@ detail::PlyData read_ply_data(const std::string& path) {
 }  // namespace
 
 // Colours as Open3D's reader gave them (the stored value / 255, then back to 0..255).
-Frame read_ply(const std::string& path) {
+Frame read_ply(const std::string& path, const std::string& label_field) {
   detail::require_regular_file(path);
-  const detail::PlyData ply = read_ply_data(path);
+  detail::PlyData ply = read_ply_data(path, label_field);
   if (ply.vertices.empty()) fail(path, "PLY has no vertices (expected at least one point)");
   if (ply.vertices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     fail(path, "PLY has too many vertices (expected < 2^31)");
@@ -70,6 +71,7 @@ Frame read_ply(const std::string& path) {
     const auto& c = ply.colours[i];
     frame.rgb[i] = {to_u8(c[0]), to_u8(c[1]), to_u8(c[2])};
   }
+  frame.label = std::move(ply.labels);
   if (frame.valid_count() == 0)
     fail(path, "has no valid points (all vertices have NaN or infinite coordinates)");
   return frame;

@@ -1,5 +1,6 @@
 // Writing PLYs: the header and bytes, round trips through read_ply of the valid points or of
-// every point (NaN kept), clouds without colour, and the fields refused with their reason.
+// every point (NaN kept) and of the fields (read back as the label), clouds without colour, and
+// the fields refused with their reason.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -85,6 +86,36 @@ TEST(IoPlyWrite, RoundTripsThroughReadPly) {
     EXPECT_EQ(v.rgb[j], f.rgb[i]) << i;
     ++j;
   }
+}
+
+TEST(IoPlyWrite, FieldsComeBackAsTheLabel) {
+  const Frame f = small_frame(true);
+  const std::vector<std::uint32_t> instance = {1, 2, 3, 4, 5, 2147483647u};
+  const std::string path = tmp_path("labelled.ply");
+  proxseg::write_ply(path, f, {{"label", {9, 9, 9, 9, 9, 9}}, {"instance", instance}},
+                     PlyPoints::kAll);
+  EXPECT_EQ(proxseg::read_ply(path, "instance").label, instance);
+  EXPECT_EQ(proxseg::read_ply(path, "label").label, std::vector<std::uint32_t>(6, 9));
+  EXPECT_TRUE(proxseg::read_ply(path).label.empty());            // none asked for
+  EXPECT_TRUE(proxseg::read_ply(path, "object").label.empty());  // none in the file
+  // A float or negative "label" is refused with the reason.
+  std::string floats =
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float label\nend_header\n0 0 1 2.5\n";
+  std::string negative = floats;
+  negative.replace(negative.find("float label"), 11, "int label");
+  negative.replace(negative.find("2.5"), 3, "-1");
+  const auto refused = [](const std::string& file, const char* reason) {
+    try {
+      proxseg::read_ply(file, "label");
+      ADD_FAILURE() << "accepted: " << reason;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    }
+  };
+  refused(write_bytes("float_label.ply", floats), "is a float (expected an integer type");
+  refused(write_bytes("negative_label.ply", negative),
+          "vertex 0: label -1 (expected whole labels 0..2^32-1)");
 }
 
 TEST(IoPlyWrite, WithoutColoursIsXyzOnly) {

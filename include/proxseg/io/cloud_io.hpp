@@ -17,8 +17,9 @@ namespace proxseg {
 // "instance") is kept in Frame::label. WIDTH/HEIGHT come from the header.
 Frame read_pcd(const std::string& path, const std::string& label_field = "label");
 // PLY point cloud or mesh vertices (unorganized: height 1), with their colours if the file has
-// them (red, green, blue vertex properties), else Frame::rgb empty.
-Frame read_ply(const std::string& path);
+// them (red, green, blue vertex properties), else Frame::rgb empty. label_field, when not empty,
+// names an integer vertex property kept in Frame::label (e.g. "instance" of write_ply's files).
+Frame read_ply(const std::string& path, const std::string& label_field = "");
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
 // A triangle mesh with vertex colours (PLY, e.g. the LINEMOD/BOP models) or a textured Wavefront
