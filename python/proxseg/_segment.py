@@ -311,9 +311,11 @@ def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] =
     ----------
     frame : Frame, str, os.PathLike, array-like or Open3D geometry
         A :class:`Frame`; a file path; points (N, 3) or (H, W, 3) in metres (NaN = no return)
-        with ``rgb`` beside them; an Open3D PointCloud (no image grid: the slower path, said
-        once) or RGB-D image (:func:`from_open3d`). Without colour the colour and texture
-        blocks are off (the report says so).
+        with ``rgb`` beside them; an Open3D PointCloud (organized when it holds an image grid
+        :func:`from_open3d` recognises, e.g. ``o3d.io.read_point_cloud`` of an organized PCD;
+        otherwise the far slower unorganized path, said once) or RGB-D image
+        (:func:`from_open3d`). Without colour the colour and texture blocks are off (the
+        report says so).
     params : SegmentParams or dict, optional
         Laid out like the JSON config; partial dicts are applied over the preset.
     preset : {"default", "paper"}, optional
