@@ -155,11 +155,12 @@ def from_open3d(geometry: Any, intrinsic: Any = None, *, depth_scale: Optional[f
             open3d.geometry.RGBDImage or open3d.t.geometry.RGBDImage
         A point cloud of H x W points in an image's row-major order becomes an organized frame
         (the fast path of :func:`segment`, labels of shape (H, W)): ``o3d.io.read_point_cloud``
-        keeps every point of an organized PCD, NaN included, and that order. The grid is
-        ``shape`` when given, else a common sensor size (640x480, 320x240, 1280x720, 848x480,
-        1920x1080, 512x424, 640x400, ...: ``SENSOR_SIZES``) whose grid the points really are
-        (x/z increasing along the rows and y/z down the columns, as a pinhole camera sees
-        them). Any other cloud becomes an unorganized frame, a far slower path: a warning says
+        keeps every point of an organized PCD, NaN included, and that order, as
+        ``PointCloud.create_from_rgbd_image(..., project_valid_depth_only=False)`` does. The
+        grid is ``shape`` when given, else a common sensor size (640x480, 320x240, 1280x720,
+        848x480, 1920x1080, 512x424, 640x400, ...: ``SENSOR_SIZES``) whose grid the points
+        really are (x/z increasing along the rows and y/z down the columns, as a pinhole
+        camera sees them). Any other cloud becomes an unorganized frame, a far slower path: a warning says
         so, and how to keep the grid, once per process. An RGB-D image keeps its grid, as
         :func:`read_rgbd` makes it; a grey one (Open3D's default
         ``convert_rgb_to_intensity=True``) is taken with its grey in R, G and B and a warning,

@@ -59,6 +59,21 @@ def test_the_grid_is_inferred_only_for_points_laid_out_as_an_image():
         assert _open3d.image_grid(transposed) is None  # column-major
 
 
+def test_a_cloud_open3d_projects_with_every_pixel_keeps_the_grid():
+    frame = proxseg.read_point_cloud(data("mosd/learn/learn0.pcd"))
+    rgbd = o3d.geometry.RGBDImage.create_from_color_and_depth(
+        o3d.geometry.Image(np.ascontiguousarray(frame.rgb)),
+        o3d.geometry.Image(np.nan_to_num(frame.xyz[..., 2]).astype(np.float32)),
+        depth_scale=1.0, depth_trunc=100.0, convert_rgb_to_intensity=False)
+    intrinsic = o3d.camera.PinholeCameraIntrinsic(640, 480, 525.0, 525.0, 319.5, 239.5)
+    every = o3d.geometry.PointCloud.create_from_rgbd_image(rgbd, intrinsic,
+                                                           project_valid_depth_only=False)
+    organized = proxseg.from_open3d(every)
+    assert organized.shape == (480, 640) and organized.valid_count == frame.valid_count
+    valid = np.isfinite(frame.xyz).all(axis=2)  # Open3D's colour of an invalid pixel is 0
+    assert np.array_equal(organized.rgb[valid], frame.rgb[valid])
+
+
 def test_shape_wins_and_a_cloud_without_a_grid_warns_how_to_keep_it():
     frame = proxseg.read_point_cloud(data("mosd/learn/learn5.pcd"))
     flat = frame.xyz.reshape(-1, 3)
