@@ -9,6 +9,11 @@ same run, as ratios (the machine is shared and noisy: the two sides alternate).
 2. A loop of 100 frames: read + segment in one Python process against 100 `proxseg segment`
    CLI processes (each writes its PCD, PNG and JSON), in alternating blocks of 10; and the CLI
    with its labels read back into Python (the file round trip a Python user of the CLI pays).
+3. Open3D clouds: segment(path) against segment(from_open3d(o3d.io.read_point_cloud(path)))
+   on the same scenes, alternating, wall and CPU time of the process: the cloud's call timed
+   without the Open3D read (what a cloud already in memory costs) and with it; and the cloud
+   without its image grid (the unorganized path, once per scene), which from_open3d's warning
+   quotes.
 
     python3 bench/python_bench.py --build build --data ../shared/data --out build/bench-out
 """
@@ -34,6 +39,7 @@ def main():
     ap.add_argument("--calls", type=int, default=3, help="paired calls per scene per round")
     ap.add_argument("--frames", type=int, default=100, help="frames of part 2")
     args = ap.parse_args()
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())  # before the run: a shared machine
     build = Path(args.build).resolve()
     sys.path.insert(0, str(build / "python"))
     import proxseg
@@ -98,13 +104,15 @@ def main():
                "python_loop_s": loop, "speedup": cli / loop,
                "speedup_with_read_back": (cli + cli_read) / loop}
 
-    result = {"one_call": one_call, "loop": hundred, "proxseg": proxseg.build_info(),
-              "cores": os.cpu_count(), "scenes": [s.name for s in scenes]}
+    clouds = open3d_clouds(proxseg, scenes, args.rounds)
+    result = {"one_call": one_call, "loop": hundred, "open3d": clouds,
+              "proxseg": proxseg.build_info(),
+              "cores": os.cpu_count(), "load_before": load, "scenes": [s.name for s in scenes]}
     Path(args.out).mkdir(parents=True, exist_ok=True)
     Path(args.out, "python.json").write_text(json.dumps(result, indent=2) + "\n")
     md = f"""## Python module: overhead against C++ and the CLI
 
-Python module against the C++ library and the CLI (`make bench-python`, one run, {os.cpu_count()} cores, commit {result['proxseg']['commit'][:7]}).
+Python module against the C++ library and the CLI (`make bench-python`, one run, {os.cpu_count()} cores, commit {result['proxseg']['commit'][:7]}; load average {load} before the run).
 
 | measure | C++ / CLI | Python | ratio |
 |---|---|---|---|
@@ -119,8 +127,80 @@ C++ and Python alternate call by call on the same scene (after one warm-up call 
 scene); "overhead inside a Python call" is its wall time minus segment()'s own total, which leaves
 out the destruction of segment()'s locals and so counts them as overhead.
 """
+    md += open3d_table(clouds)
     Path(args.out, "python.md").write_text(md)
     print(md)
+
+
+def timed(fn):
+    """fn()'s result, wall ms and CPU ms of the process (all threads)."""
+    w, c = time.perf_counter(), time.process_time()
+    out = fn()
+    return out, (time.perf_counter() - w) * 1000, (time.process_time() - c) * 1000
+
+
+def open3d_clouds(proxseg, scenes, rounds):
+    """Part 3: the cost of an Open3D cloud input against the path's, medians over the calls."""
+    try:
+        import open3d as o3d
+    except ImportError:
+        return {"skipped": "open3d is not installed"}
+    import numpy as np
+    rows = {k: [] for k in ("path_wall", "path_cpu", "cloud_wall", "cloud_cpu", "read_wall",
+                            "read_cpu", "unorganized_wall", "unorganized_cpu")}
+    same = True
+    for s in scenes:  # warm-up; the labels must be the path's
+        same &= bool(np.array_equal(proxseg.segment(s).labels,
+                                    proxseg.segment(proxseg.from_open3d(
+                                        o3d.io.read_point_cloud(str(s)))).labels))
+    for _ in range(rounds):
+        for s in scenes:
+            _, w, c = timed(lambda: proxseg.segment(s))
+            rows["path_wall"].append(w)
+            rows["path_cpu"].append(c)
+            cloud, w, c = timed(lambda: o3d.io.read_point_cloud(str(s)))
+            rows["read_wall"].append(w)
+            rows["read_cpu"].append(c)
+            _, w, c = timed(lambda: proxseg.segment(proxseg.from_open3d(cloud)))
+            rows["cloud_wall"].append(w)
+            rows["cloud_cpu"].append(c)
+    for s in scenes:
+        cloud = o3d.io.read_point_cloud(str(s))
+        flat = proxseg.Frame(np.asarray(cloud.points, dtype=np.float32), np.asarray(cloud.colors))
+        _, w, c = timed(lambda: proxseg.segment(flat))
+        rows["unorganized_wall"].append(w)
+        rows["unorganized_cpu"].append(c)
+    m = {k: statistics.median(v) for k, v in rows.items()}
+    m["with_read_wall"] = m["cloud_wall"] + m["read_wall"]
+    m["with_read_cpu"] = m["cloud_cpu"] + m["read_cpu"]
+    m.update(calls_each=len(rows["path_wall"]), unorganized_calls=len(rows["unorganized_wall"]),
+             same_labels=same, open3d=o3d.__version__)
+    return m
+
+
+def open3d_table(m):
+    """Part 3 as markdown."""
+    if "skipped" in m:
+        return f"\nOpen3D clouds: skipped ({m['skipped']}).\n"
+
+    def row(what, key):
+        return (f"| {what} | {m[key + '_wall']:.1f} | {m[key + '_cpu']:.1f} | "
+                f"{m[key + '_wall'] / m['path_wall']:.2f} | {m[key + '_cpu'] / m['path_cpu']:.2f} |")
+    lines = [
+        "", "### Open3D clouds against paths", "",
+        f"segment() of the same scenes from the path and from `o3d.io.read_point_cloud(path)` "
+        f"(Open3D {m['open3d']}, which keeps an organized PCD's 307,200 points: from_open3d "
+        f"keeps the grid), alternating, {m['calls_each']} calls each; medians; CPU time is the "
+        f"process's (all threads). Same labels as the path's: {m['same_labels']}.", "",
+        "| input | wall ms | CPU ms | wall ratio to the path | CPU ratio to the path |",
+        "|---|---|---|---|---|",
+        row("`segment(path)` (proxseg's PCD reader included)", "path"),
+        row("`segment(from_open3d(cloud))`, the cloud in memory (Open3D read excluded)", "cloud"),
+        row("the same with `o3d.io.read_point_cloud` included", "with_read"),
+        row(f"the cloud without its grid (unorganized path; {m['unorganized_calls']} calls)",
+            "unorganized"),
+    ]
+    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":

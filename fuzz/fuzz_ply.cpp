@@ -1,5 +1,5 @@
-// libFuzzer harness: the model readers: PLY point cloud and mesh (our PLY reader, ply_io.hpp)
-// and the YCB-Video points.xyz text format.
+// libFuzzer harness: the model readers: PLY point cloud (with and without a label property) and
+// mesh (our PLY reader, ply_io.hpp) and the YCB-Video points.xyz text format.
 #include <proxseg/io/cloud_io.hpp>
 
 #include <cmath>
@@ -10,6 +10,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   const std::string ply = fuzz::write("input.ply", bytes);
   fuzz::answers("read_ply", [&] { fuzz::check_frame(proxseg::read_ply(ply)); });
+  fuzz::answers("read_ply label",  // check_frame: one label per point or none
+                [&] { fuzz::check_frame(proxseg::read_ply(ply, "label")); });
   fuzz::answers("read_mesh", [&] {
     const proxseg::Mesh m = proxseg::read_mesh(ply, 0.001);
     for (const auto& t : m.triangles)

@@ -178,6 +178,16 @@ void ply_seeds(const fs::path& data, const fs::path& out) {
   put(out, "cloud-ascii.ply",
       replace(header, "element face 4\nproperty list uchar int vertex_indices\n", "") +
           "end_header\n" + body.substr(0, body.find("3 0 1 2")));
+  // A cloud as write_ply writes it, with a label property and a NaN point (read_ply's label).
+  proxseg::Frame cloud;
+  cloud.width = 4;
+  cloud.height = 1;
+  for (int i = 0; i < 4; ++i) {
+    cloud.xyz.emplace_back(0.1f * i, 0.0f, i == 2 ? std::nanf("") : 1.0f);
+    cloud.rgb.push_back({static_cast<std::uint8_t>(60 * i), 10, 200});
+  }
+  put(out, "labelled.ply",
+      proxseg::ply_bytes(cloud, {{"label", {0, 1, 2, 3}}}, proxseg::PlyPoints::kAll));
   const std::string xyz = slurp(data / "ycbv/models/003_cracker_box/points.xyz");
   put(out, "points.xyz", xyz.substr(0, xyz.find('\n', 2000) + 1));
 }

@@ -43,15 +43,14 @@ def picture(frame, result, path):
     plt.close(fig)
 
 
-def show(frame, result):
+def show(result):
     import open3d as o3d
 
-    xyz = frame.xyz.reshape(-1, 3)
-    keep = np.isfinite(xyz).all(axis=1)
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(xyz[keep].astype(np.float64)))
-    cloud.colors = o3d.utility.Vector3dVector(
-        proxseg.label_colours(result.instances).reshape(-1, 3)[keep])
-    o3d.visualization.draw_geometries([cloud], window_name="proxseg candidates")
+    cloud = result.to_open3d(by="instances")  # the valid points, coloured by candidate
+    boxes = [c.box.to_open3d() for c in result.candidates]  # OrientedBoundingBox each
+    for box in boxes:
+        box.color = (0.0, 0.0, 0.0)
+    o3d.visualization.draw_geometries([cloud, *boxes], window_name="proxseg candidates")
 
 
 def main():
@@ -76,7 +75,7 @@ def main():
     picture(frame, result, args.output)
     print(f"picture: {args.output}")
     if args.show:
-        show(frame, result)
+        show(result)
 
 
 if __name__ == "__main__":

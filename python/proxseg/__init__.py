@@ -21,16 +21,16 @@ the next frame, as the CLI does (PROXSEG_KEEP_FREED_MEMORY=0 before the import: 
 """
 
 from ._proxseg import Frame, __version__, build_info
-from ._frame import (as_frame, from_open3d, from_rgbd, read_point_cloud, read_rgbd, to_open3d,
-                     write_point_cloud)
+from ._frame import as_frame, from_rgbd, read_point_cloud, read_rgbd, write_point_cloud
+from ._open3d import from_open3d, to_open3d
 from ._params import RecognitionParams, SegmentParams, parameters
-from ._segment import Box, Candidate, SegmentResult, label_colours, segment
+from ._segment import Box, Candidate, SegmentResult, label_colors, label_colours, segment
 from ._database import Database
 from ._recognize import RecognitionResult, RecognizedObject, recognize, recognize_object
 
 __all__ = [
     "Box", "Candidate", "Database", "Frame", "RecognitionParams", "RecognitionResult",
     "RecognizedObject", "SegmentParams", "SegmentResult", "__version__", "as_frame", "build_info",
-    "from_open3d", "from_rgbd", "label_colours", "parameters", "read_point_cloud", "read_rgbd",
-    "recognize", "recognize_object", "segment", "to_open3d", "write_point_cloud",
+    "from_open3d", "from_rgbd", "label_colors", "label_colours", "parameters", "read_point_cloud",
+    "read_rgbd", "recognize", "recognize_object", "segment", "to_open3d", "write_point_cloud",
 ]

@@ -1,11 +1,10 @@
-"""Frames from files, numpy arrays, RGB-D images and Open3D point clouds."""
+"""Frames from files, numpy arrays and RGB-D images; point cloud files written (PCD, PLY)."""
 
 from __future__ import annotations
 
 import os
 import sys
 import types
-import warnings
 from typing import Any, Dict, Optional, Union
 
 import numpy as np
@@ -26,7 +25,8 @@ def read_point_cloud(path: PathLike, *, label_field: str = "label") -> Frame:
         optionally rgb/rgba) or ``.ply`` (vertices, optionally with colours). A cloud without
         colour is read without it (``frame.rgb is None``).
     label_field : str
-        An integer PCD field kept as ``frame.label`` (e.g. ``"instance"`` of the CLI's output).
+        An integer PCD field or PLY vertex property kept as ``frame.label`` (e.g.
+        ``"instance"`` of the CLI's output or of :func:`write_point_cloud`'s ``fields``).
 
     Returns
     -------
@@ -110,21 +110,6 @@ def from_rgbd(colour: Optional[np.ndarray] = None, depth: Optional[np.ndarray] =
                                np.asarray(K, dtype=np.float64), float(depth_scale))
 
 
-_warned_unorganized = False
-
-
-def _warn_unorganized_once(what: str) -> None:
-    """Says once per process that a cloud without an image grid takes the slower path."""
-    global _warned_unorganized
-    if not _warned_unorganized:
-        _warned_unorganized = True
-        warnings.warn(
-            f"{what} has no image grid: proxseg segments it as an unorganized cloud (voxel "
-            "selection, no texture block, about 3x slower, labels of shape (N,)). To keep the "
-            "grid, read the file with proxseg.read_point_cloud, or pass the RGB-D image to "
-            "proxseg.from_open3d(rgbd, intrinsic).", stacklevel=_caller_level())
-
-
 def _caller_level() -> int:
     """The stacklevel of the first caller outside this package (the user's line)."""
     here = os.path.dirname(os.path.abspath(__file__))
@@ -136,87 +121,6 @@ def _caller_level() -> int:
     return level
 
 
-def _intrinsic_matrix(intrinsic: Any) -> np.ndarray:
-    """The 3x3 camera matrix of an Open3D PinholeCameraIntrinsic, a tensor or an array-like."""
-    if hasattr(intrinsic, "intrinsic_matrix"):
-        intrinsic = intrinsic.intrinsic_matrix
-    if hasattr(intrinsic, "numpy"):
-        intrinsic = intrinsic.numpy()
-    k = np.asarray(intrinsic, dtype=np.float64)
-    if k.shape != (3, 3):
-        raise ValueError(f"intrinsic: shape {k.shape} (expected the 3x3 camera matrix or an "
-                         "open3d.camera.PinholeCameraIntrinsic)")
-    return k
-
-
-def _image_array(image: Any) -> np.ndarray:
-    """An Open3D image (legacy or tensor) as a numpy array."""
-    if hasattr(image, "as_tensor"):  # open3d.t.geometry.Image
-        image = image.as_tensor().numpy()
-    return np.asarray(image)
-
-
-def from_open3d(geometry: Any, intrinsic: Any = None, *, depth_scale: Optional[float] = None
-                ) -> Frame:
-    """A :class:`Frame` from an Open3D geometry.
-
-    Parameters
-    ----------
-    geometry : open3d.geometry.PointCloud, open3d.t.geometry.PointCloud,
-            open3d.geometry.RGBDImage or open3d.t.geometry.RGBDImage
-        A point cloud becomes an unorganized frame (Open3D clouds have no image grid; a warning
-        says so once per process). An RGB-D image keeps its grid: the frame is organized, as
-        :func:`read_rgbd` makes it.
-    intrinsic : open3d.camera.PinholeCameraIntrinsic, open3d.core.Tensor or array-like (3, 3)
-        The camera of an RGB-D image (required for one, unused for a cloud).
-    depth_scale : float, optional
-        Depth units per metre of the RGB-D image's depth. Default: 1 for a legacy RGBDImage
-        (its depth is in metres, as ``create_from_color_and_depth`` leaves it) and 1000 for a
-        tensor one (raw sensor units).
-
-    Returns
-    -------
-    Frame
-
-    Raises
-    ------
-    TypeError
-        For another geometry, or an RGB-D image without ``intrinsic``.
-    """
-    module, name = type(geometry).__module__, type(geometry).__name__
-    if not module.startswith("open3d"):
-        raise TypeError(f"{name}: expected an Open3D PointCloud or RGBDImage")
-    if name == "RGBDImage":
-        if intrinsic is None:
-            raise TypeError("an Open3D RGBDImage needs its camera: "
-                            "proxseg.from_open3d(rgbd, intrinsic)")
-        tensor = hasattr(geometry.depth, "as_tensor")
-        depth = _image_array(geometry.depth)
-        colour = _image_array(geometry.color)
-        if depth.ndim == 3:
-            depth = depth[..., 0]
-        if colour.ndim == 3 and colour.shape[2] == 1:
-            colour = colour[..., 0]
-        if colour.ndim == 2:  # legacy default: converted to intensity
-            colour = np.repeat(colour[..., None], 3, axis=2)
-        if colour.dtype != np.uint8:
-            colour = np.clip(np.rint(colour.astype(np.float64) * 255.0), 0, 255).astype(np.uint8)
-        scale = depth_scale if depth_scale is not None else (1000.0 if tensor else 1.0)
-        if depth.dtype not in (np.uint16, np.float32, np.float64):
-            depth = depth.astype(np.float32)
-        return from_rgbd(colour[..., :3], depth, _intrinsic_matrix(intrinsic), scale)
-    if name != "PointCloud":
-        raise TypeError(f"{module}.{name}: expected an Open3D PointCloud or RGBDImage")
-    if hasattr(geometry, "point"):  # open3d.t.geometry.PointCloud
-        xyz = geometry.point.positions.numpy()
-        rgb = geometry.point.colors.numpy() if "colors" in geometry.point else None
-    else:  # open3d.geometry.PointCloud
-        xyz = np.asarray(geometry.points)
-        rgb = np.asarray(geometry.colors) if geometry.has_colors() else None
-    _warn_unorganized_once(f"an Open3D {name}")
-    return Frame(np.asarray(xyz, dtype=np.float32), rgb)
-
-
 def as_frame(data: Any, rgb: Any = None) -> Frame:
     """The :class:`Frame` for what proxseg's functions accept as a cloud.
 
@@ -225,7 +129,9 @@ def as_frame(data: Any, rgb: Any = None) -> Frame:
     data : Frame, str or os.PathLike, array-like, or Open3D geometry
         A Frame as it is; a path read by :func:`read_point_cloud`; points (N, 3) or (H, W, 3)
         in metres (a numpy array, nested lists, anything ``numpy.asarray`` takes); an Open3D
-        PointCloud or RGBDImage (:func:`from_open3d`; an RGBDImage needs its camera there).
+        PointCloud (:func:`from_open3d`: organized when it holds an image grid it can
+        recognise; pass ``from_open3d(cloud, shape=(H, W))`` to be sure) or RGBDImage (which
+        needs its camera: ``from_open3d(rgbd, intrinsic)``).
     rgb : array-like, optional
         Colours of array points: uint8 0-255, or floats in [0, 1].
 
@@ -240,6 +146,8 @@ def as_frame(data: Any, rgb: Any = None) -> Frame:
     if isinstance(data, (str, os.PathLike)):
         return read_point_cloud(data)
     if type(data).__module__.startswith("open3d"):
+        from ._open3d import from_open3d  # imports this module
+
         return from_open3d(data)
     if isinstance(data, (np.ndarray, list, tuple)) or hasattr(data, "__array__"):
         return Frame(data, rgb)
@@ -248,59 +156,41 @@ def as_frame(data: Any, rgb: Any = None) -> Frame:
 
 
 def write_point_cloud(path: PathLike, frame: Frame, *, fields: Optional[Dict[str, Any]] = None,
-                      compressed: bool = True) -> None:
-    """Writes a frame as a PCD file (organized when the frame is), as the CLI writes its clouds.
+                      compressed: bool = True, keep_invalid: bool = False) -> None:
+    """Writes a frame as a PCD file (organized when the frame is), as the CLI writes its clouds,
+    or as a PLY file.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The ``.pcd`` file to write; written whole or not at all (a temporary file and a rename).
+        The ``.pcd`` or ``.ply`` file to write; written whole or not at all (a temporary file
+        and a rename).
     frame : Frame
-        Its points (NaN kept) and colours (field ``rgb``, when it has them).
+        Its points and colours (PCD: field ``rgb``; PLY: ``red green blue`` uchar, when it has
+        them).
     fields : dict of str to array-like, optional
-        Extra unsigned integer fields, one value per point (e.g. ``{"label": result.labels,
-        "instance": result.instances}``).
+        Extra unsigned integer fields, one value per point of the frame (e.g. ``{"label":
+        result.labels, "instance": result.instances}``). PCD: ``U`` 4-byte fields; PLY:
+        ``int`` properties (the type Open3D's tensor reader reads), values up to 2^31 - 1.
     compressed : bool
-        ``DATA binary_compressed`` (PCL's and Open3D's readers read it) or ``binary``.
+        PCD only: ``DATA binary_compressed`` (PCL's and Open3D's readers read it) or ``binary``.
+    keep_invalid : bool
+        PLY only. PLY has no image grid (an organized frame's WIDTH/HEIGHT are lost) and no
+        notion of an invalid point: by default only the points with finite coordinates are
+        written, in the frame's row-major order, as viewers and mesh tools expect. True writes
+        every point, NaN coordinates kept (Open3D's and PCL's PLY readers keep them), so that
+        vertex i is the frame's point i. A PCD keeps every point and the grid.
 
     Raises
     ------
     ValueError
-        For a path that does not end in .pcd or a field of the wrong size.
+        For a path that does not end in .pcd or .ply, a field of the wrong size or name, a PLY
+        field value above 2^31 - 1, or a PLY of no valid point.
     OSError
         When the file cannot be written.
     """
     target = os.fspath(path)
-    if not target.lower().endswith(".pcd"):
-        raise ValueError(f"{target}: expected a .pcd path (proxseg writes PCD files)")
-    _proxseg._write_point_cloud(target, frame, dict(fields or {}), compressed)
-
-
-def to_open3d(frame: Frame, colours: Optional[np.ndarray] = None) -> Any:
-    """The frame's valid points as an ``open3d.geometry.PointCloud``.
-
-    Parameters
-    ----------
-    frame : Frame
-    colours : numpy.ndarray, optional
-        Float RGB in [0, 1] per point of the frame (its shape + (3,)), e.g.
-        ``proxseg.label_colours(result.instances)``; default: the frame's own colours.
-
-    Returns
-    -------
-    open3d.geometry.PointCloud
-        Points with finite coordinates only, in the frame's row-major order.
-    """
-    import open3d as o3d  # type: ignore[import]  # an optional dependency
-
-    xyz = frame.xyz.reshape(-1, 3)
-    keep = np.isfinite(xyz).all(axis=1)
-    cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(xyz[keep].astype(np.float64)))
-    if colours is not None:
-        c = np.asarray(colours, dtype=np.float64).reshape(-1, 3)
-        if len(c) != len(xyz):
-            raise ValueError(f"colours: {len(c)} rows (expected one per point, {len(xyz)})")
-        cloud.colors = o3d.utility.Vector3dVector(c[keep])
-    elif frame.rgb is not None:
-        cloud.colors = o3d.utility.Vector3dVector(frame.rgb.reshape(-1, 3)[keep] / 255.0)
-    return cloud
+    if not target.lower().endswith((".pcd", ".ply")):
+        raise ValueError(f"{target}: expected a .pcd or .ply path (the formats proxseg writes)")
+    _proxseg._write_point_cloud(target, frame, dict(fields or {}), bool(compressed),
+                                bool(keep_invalid))

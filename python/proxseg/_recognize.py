@@ -12,7 +12,8 @@ import numpy as np
 
 from . import _page, _proxseg
 from ._database import DatabaseLike, as_database
-from ._frame import as_frame, to_open3d
+from ._frame import as_frame
+from ._open3d import frame_cloud
 from ._proxseg import Frame
 from ._params import RecognitionParams, SegmentParams, _Section, resolve_recognition_params
 from ._params import resolve_segment_params
@@ -52,6 +53,8 @@ class RecognizedObject:
         "candidate", "split" or "merged" (recognition's split and merge passes).
     report : dict
         Its entry of the CLI's ``proxseg recognize`` JSON report.
+    frame : Frame or None
+        The frame recognised (``to_open3d`` uses it).
     """
 
     id: int
@@ -69,11 +72,32 @@ class RecognizedObject:
     instances: List[int]
     origin: str
     report: Dict[str, Any] = field(repr=False)
+    frame: Optional[Frame] = field(default=None, repr=False, compare=False)
+
+    def to_open3d(self, *, tensor: bool = False) -> Any:
+        """Its points as an Open3D cloud, in the scene's colours.
+
+        Parameters
+        ----------
+        tensor : bool
+            ``open3d.t.geometry.PointCloud`` (positions, colors and the Int32 attribute
+            ``object``, its id) instead of ``open3d.geometry.PointCloud``.
+        """
+        if self.frame is None:
+            raise ValueError("to_open3d: this object has no frame (those of proxseg.recognize "
+                             "do)")
+        return frame_cloud(self.frame, indices=self.indices, tensor=tensor,
+                           attributes={"object": np.full(len(self.frame), self.id)})
 
     @property
     def points(self) -> np.ndarray:
         """The same as ``indices`` (its earlier name; they are point indices, not points)."""
         return self.indices
+
+    @property
+    def color(self) -> float:
+        """The same as ``colour``."""
+        return self.colour
 
     @property
     def known(self) -> bool:
@@ -159,17 +183,56 @@ class RecognitionResult(_page.PageMixin):
                              "recognised (not after pickling), has a page")
         return _proxseg._recognition_view_page(self.frame, self._output, title)
 
-    def to_open3d(self) -> Any:
-        """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by object
-        (``label_colours(object_ids)``; black for points of no object).
+    def to_open3d(self, by: str = "objects", *, tensor: bool = False) -> Any:
+        """The frame's valid points as an Open3D cloud coloured by result.
+
+        Parameters
+        ----------
+        by : {"objects", "instances", "labels", "colours", "colors"}
+            Colour each point by its object (``label_colours(object_ids)``; black for points of
+            no object), its segmentation instance or label, or keep the scene's colours. The
+            result of :func:`recognize_object` (one object, no per-point ids) has its scene's
+            colours whatever ``by`` is.
+        tensor : bool
+            ``open3d.t.geometry.PointCloud`` with positions (float32), colors (float32 in
+            [0, 1], chosen by ``by``) and the Int32 attributes (n, 1) ``object`` (the object's
+            id, 0 for none: an index into :attr:`object_names`), ``instance`` and ``label``
+            (the segmentation's), instead of ``open3d.geometry.PointCloud``. A recognize_object
+            result has no attributes.
 
         Returns
         -------
-        open3d.geometry.PointCloud
+        open3d.geometry.PointCloud or open3d.t.geometry.PointCloud
+            The points with finite coordinates, in the frame's row-major order; an object's own
+            cloud is ``result.objects[i].to_open3d()``.
         """
-        if self.frame is None or self.object_ids is None:
-            raise ValueError("to_open3d: only a scene's result (recognize) has per-point objects")
-        return to_open3d(self.frame, label_colours(self.object_ids))
+        if self.frame is None:
+            raise ValueError("to_open3d: this result has no frame")
+        seg = self.segmentation
+        kinds = {"objects": self.object_ids, "colours": None, "colors": None,
+                 "instances": None if seg is None else seg.instances,
+                 "labels": None if seg is None else seg.labels}
+        if by not in kinds:
+            raise ValueError(f"by: {by!r} (expected 'objects', 'instances', 'labels', 'colours' "
+                             "or 'colors')")
+        attributes = {}
+        if self.object_ids is not None:
+            attributes["object"] = self.object_ids
+        if seg is not None:
+            attributes.update(instance=seg.instances, label=seg.labels)
+        chosen = kinds[by]
+        colours = None if chosen is None else label_colours(chosen)
+        return frame_cloud(self.frame, colours=colours, tensor=tensor, attributes=attributes)
+
+    @property
+    def object_names(self) -> List[str]:
+        """The name of each object id, ``""`` at 0 (no object): the ``object`` attribute of
+        ``to_open3d(tensor=True)`` indexes it, and ``numpy.array(object_names)[object_ids]``
+        names every point."""
+        names = [""] * (max((o.id for o in self.objects), default=0) + 1)
+        for o in self.objects:
+            names[o.id] = o.name
+        return names
 
     def __getstate__(self) -> Dict[str, Any]:
         state = dict(self.__dict__)
@@ -197,7 +260,7 @@ class RecognitionResult(_page.PageMixin):
         return f"RecognitionResult({', '.join(f'{o.id}: {o.name} {o.score:.2f}' for o in self.objects)})"
 
 
-def _object(raw: Dict[str, Any]) -> RecognizedObject:
+def _object(raw: Dict[str, Any], frame: Frame) -> RecognizedObject:
     r = raw["report"]
     best = r.get("best")
     runner = r.get("runner_up")
@@ -209,7 +272,7 @@ def _object(raw: Dict[str, Any]) -> RecognizedObject:
         view=(best or {}).get("view"),
         runner_up=(runner["name"], runner["score"]) if runner else None, indices=raw["points"],
         centroid=np.array(r["centroid"]), instances=list(r["instances"]), origin=r["origin"],
-        report=r)
+        report=r, frame=frame)
 
 
 def _params(tree: Dict[str, Any], kind: Type[_Section]) -> _Section:
@@ -260,7 +323,7 @@ def recognize(frame: Any, db: DatabaseLike, params: Optional[Any] = None, *,
     raw = _proxseg._recognize_scene(f, database._db, seg, rec, _input_name(frame))
     ids = raw["object_ids"]
     return RecognitionResult(
-        objects=[_object(o) for o in raw["objects"]], object_ids=ids,
+        objects=[_object(o, f) for o in raw["objects"]], object_ids=ids,
         segmentation=segmentation_result(raw["segmentation"], f), times_ms=dict(raw["times_ms"]),
         params={"segmentation": _params(copy.deepcopy(seg), SegmentParams),
                 "recognition": _params(rec, RecognitionParams)},
@@ -291,7 +354,7 @@ def recognize_object(points: Any, db: DatabaseLike, params: Optional[Any] = None
     database = as_database(db)
     rec = resolve_recognition_params(params, overrides)
     raw = _proxseg._recognize_object(f, database._db, rec, _input_name(points))
-    return RecognitionResult(objects=[_object(o) for o in raw["objects"]], object_ids=None,
+    return RecognitionResult(objects=[_object(o, f) for o in raw["objects"]], object_ids=None,
                              segmentation=None, times_ms=dict(raw["times_ms"]),
                              params={"recognition": _params(rec, RecognitionParams)},
                              frame=f, _output=raw["output"])

@@ -9,7 +9,8 @@ from typing import Any, Dict, List, Optional, Union
 import numpy as np
 
 from . import _page, _proxseg
-from ._frame import as_frame, to_open3d
+from ._frame import as_frame
+from ._open3d import frame_cloud
 from ._proxseg import Frame
 from ._params import SegmentParams, resolve_segment_params
 
@@ -22,6 +23,20 @@ class Box:
     centre: np.ndarray
     axes: np.ndarray
     extent: np.ndarray
+
+    @property
+    def center(self) -> np.ndarray:
+        """The same as ``centre``."""
+        return self.centre
+
+    def to_open3d(self) -> Any:
+        """The box as Open3D's: ``open3d.geometry.OrientedBoundingBox(centre, axes, extent)``
+        (its ``R`` has the axes as columns)."""
+        import open3d as o3d  # type: ignore[import]  # an optional dependency
+
+        return o3d.geometry.OrientedBoundingBox(np.asarray(self.centre, dtype=np.float64),
+                                                np.asarray(self.axes, dtype=np.float64),
+                                                np.asarray(self.extent, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -44,6 +59,8 @@ class Candidate:
         Its oriented bounding box.
     background : bool
         True for a supporting plane, which is not a candidate object.
+    frame : Frame or None
+        The frame segmented (``to_open3d`` uses it).
     """
 
     id: int
@@ -52,6 +69,29 @@ class Candidate:
     centroid: np.ndarray
     box: Box
     background: bool
+    frame: Optional[Frame] = field(default=None, repr=False, compare=False)
+
+    def to_open3d(self, *, tensor: bool = False) -> Any:
+        """Its points as an Open3D cloud, in the scene's colours.
+
+        Parameters
+        ----------
+        tensor : bool
+            ``open3d.t.geometry.PointCloud`` (positions, colors, and Int32 ``instance`` and
+            ``label`` attributes, its id and label) instead of ``open3d.geometry.PointCloud``.
+
+        Raises
+        ------
+        ValueError
+            For a candidate without its frame (made by hand).
+        """
+        if self.frame is None:
+            raise ValueError("to_open3d: this candidate has no frame (those of proxseg.segment "
+                             "do)")
+        n = len(self.frame)
+        return frame_cloud(self.frame, indices=self.indices, tensor=tensor,
+                           attributes={"instance": np.full(n, self.id),
+                                       "label": np.full(n, self.label)})
 
     @property
     def points(self) -> np.ndarray:
@@ -159,26 +199,35 @@ class SegmentResult(_page.PageMixin):
             fields.insert(0, ("label_kmeans", self.labels_kmeans))
         return _proxseg._view_page(self.frame, fields, self.report, title)
 
-    def to_open3d(self, by: str = "instances") -> Any:
-        """The frame's valid points as an ``open3d.geometry.PointCloud`` coloured by result.
+    def to_open3d(self, by: str = "instances", *, tensor: bool = False) -> Any:
+        """The frame's valid points as an Open3D cloud coloured by result.
 
         Parameters
         ----------
-        by : {"instances", "labels", "colours"}
+        by : {"instances", "labels", "colours", "colors"}
             Colour each point by its instance or segmentation label (``label_colours``), or
             keep the scene's colours.
+        tensor : bool
+            ``open3d.t.geometry.PointCloud`` with positions (float32), colors (float32 in
+            [0, 1], chosen by ``by``) and the Int32 attributes ``instance`` and ``label`` (n, 1),
+            instead of ``open3d.geometry.PointCloud``.
 
         Returns
         -------
-        open3d.geometry.PointCloud
+        open3d.geometry.PointCloud or open3d.t.geometry.PointCloud
+            The points with finite coordinates, in the frame's row-major order; a candidate's
+            own cloud is ``candidate.to_open3d()``.
         """
         if self.frame is None:
             raise ValueError("to_open3d: this result has no frame (results of proxseg.segment do)")
-        if by not in ("instances", "labels", "colours"):
-            raise ValueError(f"by: {by!r} (expected 'instances', 'labels' or 'colours')")
-        colours = None if by == "colours" else label_colours(
-            self.instances if by == "instances" else self.labels)
-        return to_open3d(self.frame, colours)
+        kinds = {"instances": self.instances, "labels": self.labels, "colours": None,
+                 "colors": None}
+        if by not in kinds:
+            raise ValueError(f"by: {by!r} (expected 'instances', 'labels', 'colours' or 'colors')")
+        chosen = kinds[by]
+        colours = None if chosen is None else label_colours(chosen)
+        return frame_cloud(self.frame, colours=colours, tensor=tensor,
+                           attributes={"instance": self.instances, "label": self.labels})
 
     def __repr__(self) -> str:
         return (f"SegmentResult(k={self.k}, candidates={len(self.candidates)}, "
@@ -217,7 +266,11 @@ def label_colours(labels: np.ndarray) -> np.ndarray:
     return out
 
 
-def _candidates(report: Dict[str, Any], points: List[np.ndarray]) -> List[Candidate]:
+label_colors = label_colours  # the same function, under the other spelling
+
+
+def _candidates(report: Dict[str, Any], points: List[np.ndarray], frame: Optional[Frame]
+                ) -> List[Candidate]:
     out = []
     # The extension's points are in instance order, as candidates and background interleave.
     rows = sorted(report["candidates"] + report["background"], key=lambda c: c["id"])
@@ -227,7 +280,7 @@ def _candidates(report: Dict[str, Any], points: List[np.ndarray]) -> List[Candid
                              centroid=np.array(c["centroid"]),
                              box=Box(np.array(box["centre"]), np.array(box["axes"]).T,
                                      np.array(box["extent"])),
-                             background=c["background"]))
+                             background=c["background"], frame=frame))
     return out
 
 
@@ -240,7 +293,7 @@ def _params_object(tree: Dict[str, Any]) -> SegmentParams:
 def segmentation_result(raw: Dict[str, Any], frame: Optional[Frame] = None) -> SegmentResult:
     """A SegmentResult from the extension's dict (also used by recognize)."""
     report = raw["report"]
-    instances = _candidates(report, raw["candidate_points"])
+    instances = _candidates(report, raw["candidate_points"], frame)
     return SegmentResult(labels=raw["labels"], labels_kmeans=raw["labels_kmeans"],
                          instances=raw["instances"],
                          candidates=[c for c in instances if not c.background],
@@ -258,9 +311,11 @@ def segment(frame: Any, params: Optional[Any] = None, *, preset: Optional[str] =
     ----------
     frame : Frame, str, os.PathLike, array-like or Open3D geometry
         A :class:`Frame`; a file path; points (N, 3) or (H, W, 3) in metres (NaN = no return)
-        with ``rgb`` beside them; an Open3D PointCloud (no image grid: the slower path, said
-        once) or RGB-D image (:func:`from_open3d`). Without colour the colour and texture
-        blocks are off (the report says so).
+        with ``rgb`` beside them; an Open3D PointCloud (organized when it holds an image grid
+        :func:`from_open3d` recognises, e.g. ``o3d.io.read_point_cloud`` of an organized PCD;
+        otherwise the far slower unorganized path, said once) or RGB-D image
+        (:func:`from_open3d`). Without colour the colour and texture blocks are off (the
+        report says so).
     params : SegmentParams or dict, optional
         Laid out like the JSON config; partial dicts are applied over the preset.
     preset : {"default", "paper"}, optional

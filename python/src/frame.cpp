@@ -237,6 +237,8 @@ void add_frame_shape(py::class_<Frame>& c) {
           "coloured", [](const Frame& f) { return !f.rgb.empty(); },
           "Whether the frame has colours.")
       .def_property_readonly(
+          "colored", [](const Frame& f) { return !f.rgb.empty(); }, "The same as coloured.")
+      .def_property_readonly(
           "shape", [](const Frame& f) { return py::tuple(py::cast(point_shape(f))); },
           "(H, W) when organized, else (N,): the shape of per-point results.")
       .def_property_readonly("valid_count", &Frame::valid_count, "Points with finite coordinates.")
@@ -255,11 +257,13 @@ void bind_frame_io(py::module_& m) {
       [](const std::string& path, const std::string& label_field) {
         py::gil_scoped_release release;
         if (lower_extension(path) == ".pcd") return read_pcd(path, label_field);
+        if (lower_extension(path) == ".ply") return read_ply(path, label_field);
         return read_point_cloud(path);
       },
       py::arg("path"), py::arg("label_field") = "label",
       "Reads a .pcd (ascii, binary, binary_compressed; organized or not) or .ply point cloud.\n"
-      "label_field: the integer PCD field kept as Frame.label (e.g. 'instance').");
+      "label_field: the integer PCD field or PLY vertex property kept as Frame.label (e.g. "
+      "'instance').");
   m.def(
       "read_rgbd",
       [](const std::string& colour, const std::string& depth, const std::string& meta,
@@ -274,7 +278,8 @@ void bind_frame_io(py::module_& m) {
       py::arg("intrinsics") = "");
   m.def(
       "_write_point_cloud",
-      [](const std::string& path, const Frame& frame, const py::dict& fields, bool compressed) {
+      [](const std::string& path, const Frame& frame, const py::dict& fields, bool compressed,
+         bool keep_invalid) {
         std::vector<PointField> extra;
         for (const auto& [name, values] : fields) {
           const auto a =
@@ -287,9 +292,13 @@ void bind_frame_io(py::module_& m) {
           extra.push_back({py::str(name), {a.data(), a.data() + a.size()}});
         }
         py::gil_scoped_release release;
-        write_pcd(path, frame, extra, compressed ? PcdData::kBinaryCompressed : PcdData::kBinary);
+        if (lower_extension(path) == ".ply")
+          write_ply(path, frame, extra, keep_invalid ? PlyPoints::kAll : PlyPoints::kValid);
+        else
+          write_pcd(path, frame, extra, compressed ? PcdData::kBinaryCompressed : PcdData::kBinary);
       },
-      py::arg("path"), py::arg("frame"), py::arg("fields"), py::arg("compressed"));
+      py::arg("path"), py::arg("frame"), py::arg("fields"), py::arg("compressed"),
+      py::arg("keep_invalid"));
   m.def("_from_rgbd", &frame_from_rgbd, py::arg("color"), py::arg("depth"), py::arg("K"),
         py::arg("depth_scale"));
 }

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import proxseg
-from proxseg import _frame
+from proxseg import _open3d
 from conftest import data, run_cli
 
 
@@ -96,8 +96,8 @@ def test_write_point_cloud_round_trips(learn0, tmp_path):
     assert back.shape == learn0.shape
     assert np.array_equal(back.rgb, learn0.rgb)
     assert np.array_equal(back.label, result.instances)
-    with pytest.raises(ValueError, match="expected a .pcd path"):
-        proxseg.write_point_cloud(tmp_path / "out.ply", learn0)
+    with pytest.raises(ValueError, match=r"expected a \.pcd or \.ply path"):
+        proxseg.write_point_cloud(tmp_path / "out.xyz", learn0)
     with pytest.raises(ValueError, match="one value per point"):
         proxseg.write_point_cloud(path, learn0, fields={"x": [1, 2]})
 
@@ -142,7 +142,7 @@ def test_an_open3d_cloud_warns_once_that_the_grid_is_lost(learn0):
     pytest.importorskip("open3d")
     cloud = proxseg.to_open3d(learn0)
     assert len(cloud.points) == learn0.valid_count and cloud.has_colors()
-    _frame._warned_unorganized = False
+    _open3d._warned_unorganized = False
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         proxseg.as_frame(cloud)

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "io/formats/ply_io.hpp"
 #include "io/input_file.hpp"
@@ -36,9 +37,9 @@ std::string lower_extension(const std::string& path) {
 }
 
 // The PLY file at path (a regular file), parsed; InputError naming it when it is malformed.
-detail::PlyData read_ply_data(const std::string& path) {
+detail::PlyData read_ply_data(const std::string& path, const std::string& label_property = "") {
   try {
-    return detail::parse_ply(detail::read_input_file(path));
+    return detail::parse_ply(detail::read_input_file(path), label_property);
   } catch (const std::runtime_error& e) {
     fail(path, one_line(e.what()));
   }
@@ -46,9 +47,9 @@ detail::PlyData read_ply_data(const std::string& path) {
 
 }  // namespace
 
-Frame read_ply(const std::string& path) {
+Frame read_ply(const std::string& path, const std::string& label_field) {
   detail::require_regular_file(path);
-  return detail::ply_cloud(path, read_ply_data(path));
+  return detail::ply_cloud(path, read_ply_data(path, label_field));
 }
 
 Frame read_point_cloud(const std::string& path) {

@@ -17,8 +17,9 @@ namespace proxseg {
 // "instance") is kept in Frame::label. WIDTH/HEIGHT come from the header.
 Frame read_pcd(const std::string& path, const std::string& label_field = "label");
 // PLY point cloud or mesh vertices (unorganized: height 1), with their colours if the file has
-// them (red, green, blue vertex properties), else Frame::rgb empty.
-Frame read_ply(const std::string& path);
+// them (red, green, blue vertex properties), else Frame::rgb empty. label_field, when not empty,
+// names an integer vertex property kept in Frame::label (e.g. "instance" of write_ply's files).
+Frame read_ply(const std::string& path, const std::string& label_field = "");
 // Dispatches on the extension (.pcd, .ply).
 Frame read_point_cloud(const std::string& path);
 // What errors call standard input: "<stdin>".
@@ -72,6 +73,24 @@ std::string pcd_bytes(const Frame& frame, const std::vector<PointField>& fields,
 // Writes pcd_bytes to path. Atomic: the file appears whole or not at all.
 void write_pcd(const std::string& path, const Frame& frame, const std::vector<PointField>& fields,
                PcdData data = PcdData::kBinaryCompressed);
+
+// Which points write_ply writes. PLY has no image grid and no notion of an invalid point: an
+// organized frame's WIDTH/HEIGHT are lost either way.
+enum class PlyPoints {
+  kValid,  // the points with finite coordinates only, in the frame's row-major order (what
+           // viewers and mesh tools expect)
+  kAll,    // every point, NaN coordinates kept (Open3D's and PCL's PLY readers keep them): vertex
+           // i is the frame's point i, so per-point arrays stay aligned with the file
+};
+
+// A binary little-endian PLY of one `vertex` element: x y z (float), red green blue (uchar) when
+// the frame is coloured, then each extra field as a signed 32-bit `int` property (Open3D 0.16's
+// tensor reader skips `uint` properties; a value above 2^31 - 1 is an InputError).
+std::string ply_bytes(const Frame& frame, const std::vector<PointField>& fields,
+                      PlyPoints points = PlyPoints::kValid);
+// Writes ply_bytes to path. Atomic: the file appears whole or not at all.
+void write_ply(const std::string& path, const Frame& frame, const std::vector<PointField>& fields,
+               PlyPoints points = PlyPoints::kValid);
 
 // A per-point label image read back (label_png of output.hpp writes them): width x height
 // values, row-major.

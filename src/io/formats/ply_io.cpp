@@ -211,9 +211,28 @@ int index_of(const Element& e, std::string_view name) {
   return -1;
 }
 
+// The index of the vertex property label_property (-1: none asked or none there); an error for
+// a float or list property of that name.
+int label_index(const Element& e, const std::string& label_property) {
+  const int i = label_property.empty() ? -1 : index_of(e, label_property);
+  if (i >= 0 && (e.properties[i].type == Type::kF32 || e.properties[i].type == Type::kF64))
+    bad("PLY vertex property " + label_property +
+        " is a float (expected an integer type for labels)");
+  return i;
+}
+
+std::uint32_t label_value(double v, const std::string& where, const std::string& name) {
+  if (!(v >= 0) || v > std::numeric_limits<std::uint32_t>::max() || v != std::floor(v))
+    bad(where + ": " + name + " " +
+        (std::fabs(v) < 1e15 && v == std::floor(v) ? std::to_string(static_cast<long long>(v))
+                                                   : std::to_string(v)) +
+        " (expected whole labels 0..2^32-1)");
+  return static_cast<std::uint32_t>(v);
+}
+
 }  // namespace
 
-PlyData parse_ply(const std::string& bytes) {
+PlyData parse_ply(const std::string& bytes, const std::string& label_property) {
   Format format = Format::kAscii;
   std::size_t start = 0;
   const std::vector<Element> elements = parse_header(bytes, format, start);
@@ -233,7 +252,7 @@ PlyData parse_ply(const std::string& bytes) {
           " bytes of data (expected a complete file)");
     const bool vertex = e.name == "vertex" && !have_vertex;
     const bool face = e.name == "face" && out.triangles.empty();
-    int x = -1, y = -1, z = -1, r = -1, g = -1, b = -1, indices = -1;
+    int x = -1, y = -1, z = -1, r = -1, g = -1, b = -1, l = -1, indices = -1;
     if (vertex) {
       have_vertex = true;
       x = index_of(e, "x"), y = index_of(e, "y"), z = index_of(e, "z");
@@ -242,6 +261,7 @@ PlyData parse_ply(const std::string& bytes) {
       r = index_of(e, "red"), g = index_of(e, "green"), b = index_of(e, "blue");
       out.vertices.resize(e.count);
       if (r >= 0 && g >= 0 && b >= 0) out.colours.resize(e.count);
+      if ((l = label_index(e, label_property)) >= 0) out.labels.resize(e.count);
     }
     if (face)
       for (std::size_t i = 0; i < e.properties.size(); ++i)
@@ -273,6 +293,7 @@ PlyData parse_ply(const std::string& bytes) {
       if (vertex) {
         out.vertices[n] = {values[x], values[y], values[z]};
         if (!out.colours.empty()) out.colours[n] = {values[r], values[g], values[b]};
+        if (l >= 0) out.labels[n] = label_value(values[l], where, label_property);
       }
       if (face && indices >= 0)
         for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
@@ -305,6 +326,7 @@ Frame ply_cloud(const std::string& path, const PlyData& ply) {
     const auto& c = ply.colours[i];
     frame.rgb[i] = {to_u8(c[0]), to_u8(c[1]), to_u8(c[2])};
   }
+  frame.label = ply.labels;  // the label property asked for, if any
   if (frame.valid_count() == 0)
     fail(path, "has no valid points (all vertices have NaN or infinite coordinates)");
   return frame;
