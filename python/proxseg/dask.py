@@ -112,23 +112,49 @@ def _write_atomic(path: str, text: str) -> None:
     os.replace(tmp, path)
 
 
+def _human_time(seconds: float) -> str:
+    """A duration as people read it, as the CLI prints it: "51.6 ms", "1.23 s", "2 min 05 s"."""
+    if not seconds >= 0 or seconds == float("inf"):
+        return "?"
+    ms = seconds * 1e3
+    # Each range ends where its rounding would print the next range's first value ("1000 ms").
+    if ms < 9.995:
+        return f"{ms:.2f} ms"
+    if ms < 99.95:
+        return f"{ms:.1f} ms"
+    if ms < 999.5:
+        return f"{ms:.0f} ms"
+    if seconds < 9.995:
+        return f"{seconds:.2f} s"
+    if seconds < 59.95:
+        return f"{seconds:.1f} s"
+    s = int(seconds + 0.5)
+    if s < 3600:
+        return f"{s // 60} min {s % 60:02d} s"
+    m = int(seconds / 60 + 0.5)
+    return f"{m // 60} h {m % 60:02d} min"
+
+
 class _Progress:
-    """A progress line on stderr: done/total, frames per second, time left."""
+    """A progress line on stderr: done/total, frames per second, time left (as the CLI's)."""
 
     def __init__(self, total: int, quiet: bool) -> None:
-        self.total, self.done, self.quiet = total, 0, quiet
+        self.total, self.done, self.ok, self.quiet = total, 0, 0, quiet
         self.start = time.perf_counter()
         self.tty = sys.stderr.isatty()
 
-    def step(self, what: str) -> None:
+    def step(self, what: str, failed: bool = False) -> None:
         self.done += 1
+        self.ok += 0 if failed else 1
         if self.quiet:
             return
         seconds = time.perf_counter() - self.start
-        rate = self.done / seconds if seconds > 0 else 0.0
-        left = int((self.total - self.done) / rate + 0.5) if rate > 0 else 0
-        line = (f"[{self.done}/{self.total}] {what}  {rate:.2f} frames/s, "
-                f"ETA {left // 3600}:{left // 60 % 60:02d}:{left % 60:02d}")
+        line = f"[{self.done}/{self.total}] {what}" + (" (failed)" if failed else "")
+        # The rate of the frames done well: a failed frame is often quick, and counting it
+        # would tell of a rate no frame is done at.
+        if self.ok > 0 and seconds > 0:
+            rate = self.ok / seconds
+            line += f"  {rate:.2f} frames/s, ETA {_human_time((self.total - self.done) / rate)}"
         if self.tty:
             sys.stderr.write("\r" + line + "\033[K" + ("\n" if self.done == self.total else ""))
         elif self.total <= 200 or self.done % ((self.total + 199) // 200) == 0 \
@@ -239,7 +265,7 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
             peak = max(peak, row.get("rss_mib", 0.0))
             if "error" in row:
                 sys.stderr.write(f"proxseg.dask: error: {row['error']}\n")
-            bar.step(row["frame"] + (" (failed)" if "error" in row else ""))
+            bar.step(row["frame"], failed="error" in row)
             future.release()
         log.close(False, peak)
     except BaseException:

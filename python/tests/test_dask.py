@@ -252,3 +252,16 @@ def test_the_several_machine_steps_on_one_machine(dataset, cli_batch, tmp_path):
             p.wait(timeout=60)
     assert_same_summary(json.loads(r.stdout), tmp_path / "out", cli_batch)
     assert_same_outputs(cli_batch, tmp_path / "out")
+
+
+def test_the_progress_line_reads_as_the_clis(capsys):
+    """Times as the CLI prints them; a failed frame tells no rate (it is often quick)."""
+    assert [pdask._human_time(s) for s in (0.0516183, 1.234, 125, 3720)] == \
+        ["51.6 ms", "1.23 s", "2 min 05 s", "1 h 02 min"]
+    bar = pdask._Progress(3, quiet=False)
+    bar.step("broken", failed=True)
+    first = capsys.readouterr().err
+    assert first.startswith("[1/3] broken (failed)") and "frames/s" not in first
+    bar.step("learn0")
+    second = capsys.readouterr().err
+    assert "[2/3] learn0  " in second and "frames/s, ETA " in second and ":" not in second
