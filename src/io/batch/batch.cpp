@@ -18,6 +18,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "util/shown_names.hpp"
 #include "util/stopwatch.hpp"
 
 namespace proxseg {
@@ -268,7 +269,7 @@ SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
                          " (expected the same settings to resume; use another output folder)");
     if (::ftruncate(fd_, static_cast<off_t>(whole)) != 0)
       throw FileError(path_ + ": cannot write (" + std::strerror(errno) + ")");
-    write_all(fd_, nlohmann::json{{"header", header}}.dump() + "\n", path_);
+    write_all(fd_, dump_shown(nlohmann::json{{"header", header}}) + "\n", path_);
   } catch (...) {
     ::close(fd_);
     throw;
@@ -280,7 +281,7 @@ SummaryLog::~SummaryLog() {
 }
 
 void SummaryLog::append(const nlohmann::json& row) {
-  write_all(fd_, row.dump() + "\n", path_);
+  write_all(fd_, dump_shown(row) + "\n", path_);
 }
 
 void SummaryLog::close(bool interrupted, double peak_rss_mib) {
@@ -314,14 +315,16 @@ std::set<std::string> finished_frames(const std::string& out_dir,
         log,
         [&](const nlohmann::json& line) {
           if (!line.contains("frame")) return;
-          auto& files = last[line["frame"].get<std::string>()];
+          // Names not UTF-8 were written shown (\xFF): their bytes, to match the frames'.
+          auto& files = last[name_from_shown(line["frame"].get<std::string>())];
           files.clear();
           if (line.contains("error") || !line.contains("outputs")) return;
           for (const auto& [file, bytes] : line["outputs"].items())
-            files.emplace_back(file, bytes.get<std::uintmax_t>());
+            files.emplace_back(name_from_shown(file), bytes.get<std::uintmax_t>());
         },
         [&](const std::string& message, const std::string& frame) {
-          if (!frame.empty()) last[frame].clear();  // may have been its last row: done again
+          if (!frame.empty())
+            last[name_from_shown(frame)].clear();  // may have been its last row: done again
           if (damaged) damaged->push_back(skipped(message, frame));
         });
   std::set<std::string> done;

@@ -8,6 +8,7 @@
 
 #include "io/page/page_text.hpp"
 #include "io/page/view_assets.hpp"
+#include "util/shown_names.hpp"
 
 namespace proxseg {
 namespace {
@@ -58,7 +59,7 @@ std::string batch_page(const std::string& out_dir, const std::string& title) {
                      {"rows", rows}};
   return detail::page_text(
       detail::kBatchHtml, detail::kBatchCss,
-      {{"@ROWS@", detail::script_safe(data.dump())}, {"@JS@", detail::kBatchJs}});
+      {{"@ROWS@", detail::script_safe(dump_shown(data))}, {"@JS@", detail::kBatchJs}});
 }
 
 }  // namespace proxseg

@@ -16,6 +16,7 @@
 #include "io/page/view_assets.hpp"
 #include "io/page/view_points.hpp"
 #include "io/report/pictures.hpp"
+#include "util/shown_names.hpp"
 
 namespace proxseg {
 namespace {
@@ -203,7 +204,7 @@ std::string view_page(const Frame& frame, const std::vector<ViewField>& fields, 
   for (const ViewField& f : fields) meta["layers"].push_back(layer_of(f, report));
   meta["default_layer"] = fields.empty() ? "colour" : fields.back().name;
   return detail::page_text(detail::kViewerHtml, detail::kViewerCss,
-                           {{"@META@", detail::script_safe(meta.dump())},
+                           {{"@META@", detail::script_safe(dump_shown(meta))},
                             {"@JS@", detail::kViewerJs},
                             {"@POINTS@", encoded.base64}});
 }

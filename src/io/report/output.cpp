@@ -16,6 +16,7 @@
 #include "io/formats/image_io.hpp"
 #include "io/report/pictures.hpp"
 #include "util/parallel_for.hpp"
+#include "util/shown_names.hpp"
 
 namespace proxseg {
 
@@ -269,7 +270,7 @@ void write_segmentation_files(const std::string& prefix, const Frame& frame,
   }
   if (outputs.pcd) files.emplace_back(prefix + ".pcd", std::move(pcd));
   if (outputs.png) files.emplace_back(prefix + ".png", std::move(png));
-  if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  if (outputs.json) files.emplace_back(prefix + ".json", dump_shown(report, 2) + "\n");
   if (outputs.html) {
     more_fields.push_back({"label", point_labels});
     more_fields.push_back({"instance", instances});
@@ -415,7 +416,7 @@ nlohmann::json write_recognition(const std::string& prefix, const Frame& frame,
                          {"legend", "right of the scene: per object its colour, id, name, score"}};
     files.emplace_back(prefix + ".png", detail::encode_png(picture));
   }
-  if (outputs.json) files.emplace_back(prefix + ".json", report.dump(2) + "\n");
+  if (outputs.json) files.emplace_back(prefix + ".json", dump_shown(report, 2) + "\n");
   if (outputs.html && scene)
     files.emplace_back(prefix + ".html", view_page(frame, {{"object", ids}}, report,
                                                    {ViewOptions{}.max_points, page_title(prefix)}));
