@@ -1,6 +1,7 @@
 """The model database shared by processes and threads (docs/database.md, "Sharing"): two CLI
 writers and four CLI readers at once, a Python Database beside a CLI add, SIGKILL during an add,
-a write refused for want of space, an add while threads recognise."""
+a write refused for want of space, an add while threads recognise; an object name that is not
+UTF-8 (issue 54)."""
 
 import json
 import subprocess
@@ -149,3 +150,20 @@ def test_an_add_does_not_wait_behind_recognitions(tmp_path):
                                                             "busy 2"}
     assert slowest < 3 * alone + 1.0, (slowest, alone)
     assert len(proxseg.Database(db_path)) == 8
+
+
+def test_a_database_holding_an_object_name_not_utf8_still_opens(tmp_path):
+    # Issue 54: a name an older version took (here put in by sqlite3) is shown as mug\xFF.
+    import sqlite3
+
+    db = tmp_path / "db"
+    run_cli("db", "add", db, "--name", "mug", "--xyz", data("ycbv/models/025_mug/points.xyz"))
+    with sqlite3.connect(db / "database.sqlite") as c:
+        c.execute("UPDATE views SET object = CAST(X'6D7567FF' AS TEXT)")
+    c.close()
+    assert proxseg.Database(db).objects == ["mug\\xFF"]
+    assert [o["name"] for o in info(db)["objects"]] == ["mug\\xFF"]
+    # and a new name that is not UTF-8 is refused
+    r = subprocess.run([CLI, "db", "add", str(db), "--name", b"mug\xfe", "--xyz",
+                        str(data("ycbv/models/025_mug/points.xyz"))], capture_output=True)
+    assert r.returncode == 1 and b"UTF-8" in r.stderr, r.stderr

@@ -14,6 +14,7 @@
 #include "database_file.hpp"
 #include "folder_database.hpp"
 #include "util/checksum.hpp"
+#include "util/shown_names.hpp"
 
 namespace fs = std::filesystem;
 
@@ -117,6 +118,9 @@ void check_name(const std::string& object) {
     throw InputError("object name: expected a non-empty name other than \"unknown\"");
   for (unsigned char c : object)
     if (c < 32) throw InputError("object name: control characters are not allowed");
+  if (!is_utf8(object))
+    throw InputError("object name " + shown_name(object) +
+                     ": expected UTF-8 text (the name is shown in JSON reports)");
 }
 
 void check_descriptor(const DescriptorParams& d) {

@@ -12,6 +12,7 @@
 #include "database_file.hpp"
 #include "database_records.hpp"
 #include "folder_database.hpp"
+#include "util/shown_names.hpp"
 
 namespace fs = std::filesystem;
 
@@ -69,15 +70,16 @@ int change_object(Database& db, const std::string& object,
 }  // namespace
 
 int remove_object(Database& db, const std::string& object) {
-  const int removed = change_object(db, object, [&](Sqlite& sql) {
+  const std::string stored = name_from_shown(object);  // the bytes of a name read shown
+  const int removed = change_object(db, stored, [&](Sqlite& sql) {
     for (const char* table : {"parts", "bodies"}) {
       Statement s(sql, std::string("DELETE FROM ") + table +
                            " WHERE record IN (SELECT record FROM views WHERE object = ?)");
-      s.bind(1, object);
+      s.bind(1, stored);
       s.step();
     }
     Statement s(sql, "DELETE FROM views WHERE object = ?");
-    s.bind(1, object);
+    s.bind(1, stored);
     s.step();
   });
   db.views.erase(std::remove_if(db.views.begin(), db.views.end(),
@@ -88,9 +90,10 @@ int remove_object(Database& db, const std::string& object) {
 
 int rename_object(Database& db, const std::string& from, const std::string& to) {
   check_name(to);
-  const int renamed = change_object(db, from, [&](Sqlite& sql) {
+  const std::string stored = name_from_shown(from);  // the bytes of a name read shown
+  const int renamed = change_object(db, stored, [&](Sqlite& sql) {
     Statement s(sql, "UPDATE views SET object = ? WHERE object = ?");
-    s.bind(1, to).bind(2, from);
+    s.bind(1, to).bind(2, stored);
     s.step();
   });
   for (ModelView& v : db.views)
@@ -172,8 +175,8 @@ nlohmann::json database_info(const Database& db) {
                   "length(b.data)) FROM views v JOIN parts p USING(record) JOIN bodies b "
                   "USING(record) GROUP BY v.object");
       while (s.step())
-        stored[s.text(0)] = {static_cast<std::size_t>(s.integer(1)),
-                             static_cast<std::size_t>(s.integer(2))};
+        stored[shown_name(s.text(0))] = {static_cast<std::size_t>(s.integer(1)),
+                                         static_cast<std::size_t>(s.integer(2))};
     });
   }
   std::size_t total_bytes = 0;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "database_records.hpp"
+#include "util/shown_names.hpp"
 #include "view_record.hpp"
 
 namespace proxseg::detail {
@@ -94,16 +95,18 @@ void read_views(Database& db) {
                   "ORDER BY record");
       while (s.step()) {
         const std::int64_t record = s.integer(0);
-        const std::string name = s.text(2);
+        // Names as shown (util/shown_names.hpp): one written before names had to be UTF-8 is
+        // read with its bad bytes as \xFF text, not a database every JSON of fails on.
+        const std::string name = shown_name(s.text(2));
         const std::string where = where_of(sql.path(), name, record);
         try {
           const std::int64_t points = s.integer(4);
           if (points < 10 || points > (std::int64_t(1) << 31))
             throw InputError(where + ": its row says " + std::to_string(points) + " points");
           const auto summary = detail::decode_summary(where, s.blob(6));
-          db.views.push_back(stored_view(db.file, record, s.text(1), name, s.text(3),
-                                         static_cast<std::size_t>(points), s.integer(5) != 0,
-                                         summary, feature_dims(db.descriptor)));
+          db.views.push_back(stored_view(db.file, record, shown_name(s.text(1)), name,
+                                         shown_name(s.text(3)), static_cast<std::size_t>(points),
+                                         s.integer(5) != 0, summary, feature_dims(db.descriptor)));
         } catch (const InputError& e) {
           db.damaged.push_back(e.what());
         }

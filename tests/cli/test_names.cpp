@@ -54,4 +54,43 @@ TEST(Names, BatchWithFramesNotUtf8FinishesAndResumes) {
   EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["frames_done"], 4);
 }
 
+const std::string kMug = kData + "/ycbv/models/025_mug/points.xyz";
+
+// An object name that is not UTF-8 is refused at `db add` and `db rename --to` (exit 1, the name
+// shown as \xFF).
+TEST(Names, DbAddRefusesObjectNameNotUtf8) {
+  const fs::path db = kTmp / "db-refused";
+  fs::remove_all(db);
+  const CliRun r = run("db add " + db.string() + " --name 'mug\xff' --xyz " + kMug);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("mug\\xFF"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("UTF-8"), std::string::npos) << r.err;
+  ASSERT_EQ(run("db add " + db.string() + " --name mug --xyz " + kMug).code, 0);
+  const CliRun renamed = run("db rename " + db.string() + " --name mug --to 'mug\xfe'");
+  EXPECT_EQ(renamed.code, 1) << renamed.err;
+  EXPECT_NE(renamed.err.find("mug\\xFE"), std::string::npos) << renamed.err;
+}
+
+// A database that already holds such a name (an older version took it; here put in by sqlite3)
+// opens: `db info --json` and `recognize` show it as mug\xFF; rename by that text mends it.
+TEST(Names, DatabaseHoldingObjectNameNotUtf8StillOpens) {
+  const fs::path db = kTmp / "db-old";
+  fs::remove_all(db);
+  ASSERT_EQ(run("db add " + db.string() + " --name mug --xyz " + kMug).code, 0);
+  const std::string sql = "sqlite3 " + (db / "database.sqlite").string() +
+                          " \"UPDATE views SET object = CAST(X'6D7567FF' AS TEXT)\"";
+  ASSERT_EQ(std::system(sql.c_str()), 0);
+  CliRun r = run("db info " + db.string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json info = nlohmann::json::parse(r.out);
+  EXPECT_NE(info.dump().find("mug\\\\xFF"), std::string::npos) << r.out;
+  r = run("recognize " + learn0() + " --db " + db.string() + " -o -");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out;  // whatever the database's names
+  r = run("db rename " + db.string() + " --name 'mug\\xFF' --to mug");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("db info " + db.string() + " --json");
+  EXPECT_EQ(nlohmann::json::parse(r.out)["objects"][0]["name"], "mug") << r.out;
+}
+
 }  // namespace
