@@ -11,10 +11,11 @@
 #include <cmath>
 #include <map>
 
-#include "io/input_file.hpp"
+#include "io/json_file.hpp"
 #include "io/page/page_text.hpp"
 #include "io/page/view_assets.hpp"
 #include "io/page/view_points.hpp"
+#include "io/page/view_report.hpp"
 #include "io/report/pictures.hpp"
 #include "util/shown_names.hpp"
 
@@ -57,7 +58,8 @@ json object_legend(const json& report) {
               {"points", c.value("points", 0)}};
     for (const char* k : {"score", "fitness", "coverage", "pose"})
       if (c.contains(k)) e[k] = c[k];
-    if (!c.contains("score") && c.contains("best")) e["score"] = c["best"].value("score", 0.0);
+    if (!c.contains("score") && c.contains("best") && c["best"].is_object())
+      e["score"] = c["best"].value("score", 0.0);
     legend.push_back(e);
   }
   return legend;
@@ -123,7 +125,7 @@ json layer_of(const ViewField& field, const json& report) {
 // the estimated pose), else their principal axes.
 json object_box(const Frame& frame, const std::vector<int>& points, const json& pose) {
   OrientedBox box = oriented_box(frame, points);
-  if (pose.is_array() && pose.size() >= 3) {
+  if (pose.is_array() && pose.size() == 4) {  // 4x4 (check_view_report)
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) box.axes(r, c) = pose[r][c].get<double>();
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
@@ -186,6 +188,7 @@ json home_view(const Frame& frame, const std::vector<int>& points) {
 
 std::string view_page(const Frame& frame, const std::vector<ViewField>& fields, const json& report,
                       const ViewOptions& options) {
+  detail::check_view_report(report, "view page: report");
   for (const ViewField& f : fields)
     if (f.ids.size() != frame.xyz.size())
       throw InputError("view page: field " + f.name + " has " + std::to_string(f.ids.size()) +
@@ -211,14 +214,8 @@ std::string view_page(const Frame& frame, const std::vector<ViewField>& fields, 
 
 std::string view_page_of(const std::string& prefix, const ViewOptions& options) {
   const std::string report_path = prefix + ".json", pcd_path = prefix + ".pcd";
-  json report;
-  try {
-    report = json::parse(detail::read_input_file(report_path));
-  } catch (const json::exception& e) {
-    throw InputError(report_path + ": not valid JSON (" + e.what() + ")");
-  }
-  if (!report.is_object() || !report.contains("proxseg"))
-    throw InputError(report_path + ": not a report of proxseg segment or recognize");
+  const json report = detail::read_json_file(report_path);
+  detail::check_view_report(report, report_path);
   std::vector<ViewField> fields;
   Frame frame;
   for (const char* name : is_recognition(report) ? std::vector<const char*>{"object"}

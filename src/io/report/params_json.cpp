@@ -8,7 +8,7 @@
 #include <limits>
 #include <set>
 
-#include "io/input_file.hpp"
+#include "io/json_file.hpp"
 
 namespace proxseg {
 namespace {
@@ -22,7 +22,8 @@ json value_json(const ParamValue& value) {
 // A JSON value as the row's type: InputError "field KEY: expected ..., got VALUE".
 ParamValue json_value(const Parameter& row, const json& v) {
   auto wrong = [&](const char* expected) -> ParamValue {
-    throw InputError("field " + row.key() + ": expected " + expected + ", got " + v.dump());
+    throw InputError("field " + row.key() + ": expected " + expected + ", got " +
+                     detail::json_excerpt(v));
   };
   switch (row.type) {
     case ParamType::kBool:
@@ -85,7 +86,8 @@ std::set<std::string> section_names(const std::vector<Parameter>& table) {
 template <class P>
 P from_json_with(const json& j, P base, const std::vector<Parameter>& table,
                  std::vector<std::string>* renamed) {
-  if (!j.is_object()) throw InputError("config: expected a JSON object, got " + j.dump());
+  if (!j.is_object())
+    throw InputError("config: expected a JSON object, got " + detail::json_excerpt(j));
   const std::set<std::string> sections = section_names(table);
   // Unknown keys are errors: a typo must not silently leave a default in place.
   auto set = [&](const std::string& key, const json& v) {
@@ -102,7 +104,8 @@ P from_json_with(const json& j, P base, const std::vector<Parameter>& table,
       if (!sections.count(key)) {
         set(key, value);
       } else if (!value.is_object()) {
-        throw InputError("field " + key + ": expected an object, got " + value.dump());
+        throw InputError("field " + key + ": expected an object, got " +
+                         detail::json_excerpt(value));
       } else {
         self(self, value, key + ".");
       }
@@ -111,15 +114,6 @@ P from_json_with(const json& j, P base, const std::vector<Parameter>& table,
   read(read, j, "");
   validate(base);
   return base;
-}
-
-json read_json_file(const std::string& path) {
-  const std::string text = detail::read_input_file(path);
-  try {
-    return json::parse(text);
-  } catch (const json::exception& e) {  // parse errors, and numbers out of range (out_of_range.406)
-    throw InputError(path + ": not valid JSON (" + e.what() + ")");
-  }
 }
 
 }  // namespace
@@ -150,7 +144,7 @@ RecognitionParams recognition_params_from_json(const json& j, RecognitionParams 
 std::pair<SegmentParams, RecognitionParams> read_recognize_params(
     const std::string& path, SegmentParams seg, RecognitionParams rec,
     std::vector<std::string>* renamed) {
-  const json j = read_json_file(path);
+  const json j = detail::read_json_file(path);
   try {
     if (!j.is_object())
       throw InputError("expected {\"segmentation\": {...}, \"recognition\": {...}}");
@@ -168,7 +162,7 @@ std::pair<SegmentParams, RecognitionParams> read_recognize_params(
 
 SegmentParams read_params(const std::string& path, SegmentParams base,
                           std::vector<std::string>* renamed) {
-  const json j = read_json_file(path);
+  const json j = detail::read_json_file(path);
   try {
     return params_from_json(j, base, renamed);
   } catch (const InputError& e) {
