@@ -1,6 +1,8 @@
 // The checks of the report the 3D page reads (view_report.hpp), against what output.cpp writes.
 #include "io/page/view_report.hpp"
 
+#include <cstdint>
+
 #include "io/json_file.hpp"
 #include "io/reader_errors.hpp"
 
@@ -42,9 +44,17 @@ void check_box(const json& box, const std::string& where, const std::string& at)
     fail(where, at + ".extent: expected 3 numbers");
 }
 
+// A whole number in [0, most]: a report read from a file holds unsigned numbers, one made in
+// memory (a batch's pages) signed ones.
+bool whole_in(const json& v, std::uint64_t most) {
+  if (v.is_number_unsigned()) return v.get<std::uint64_t>() <= most;
+  return v.is_number_integer() && v.get<std::int64_t>() >= 0 &&
+         static_cast<std::uint64_t>(v.get<std::int64_t>()) <= most;
+}
+
 void check_colour(const json& c, const std::string& where, const std::string& at) {
   bool ok = c.is_array() && c.size() == 3;
-  for (std::size_t i = 0; ok && i < 3; ++i) ok = c[i].is_number_unsigned() && c[i] <= 255;
+  for (std::size_t i = 0; ok && i < 3; ++i) ok = whole_in(c[i], 255);
   if (!ok) wrong(where, at, "3 integers 0-255", c);
 }
 
@@ -52,8 +62,7 @@ void check_colour(const json& c, const std::string& where, const std::string& at
 void check_entry(const json& c, bool recognition, const std::string& where, const std::string& at) {
   if (!c.is_object()) wrong(where, at, "an object", c);
   if (!c.contains("id")) fail(where, at + ".id: missing (expected an id)");
-  if (!c["id"].is_number_unsigned() || c["id"] > 0xffffffffu)
-    wrong(where, at + ".id", "an unsigned integer", c["id"]);
+  if (!whole_in(c["id"], 0xffffffffu)) wrong(where, at + ".id", "an unsigned integer", c["id"]);
   check_number(c, "points", where, at + ".");
   if (c.contains("name") && !c["name"].is_string())
     wrong(where, at + ".name", "a string", c["name"]);
