@@ -367,7 +367,14 @@ ParamValue parse_parameter(const Parameter& row, const std::string& text) {
       errno = 0;
       char* end = nullptr;
       const double v = std::strtod(text.c_str(), &end);
-      if (text.empty() || errno || *end || !std::isfinite(v)) return fail();
+      if (text.empty() || *end || std::isnan(v) || (!errno && std::isinf(v))) return fail();
+      // Out of a double's range: a subnormal is still a number (the range check judges it), an
+      // overflow or an underflow to zero is named as such, not as "not a number".
+      if (errno == ERANGE && (std::isinf(v) || v == 0))
+        throw InputError(row.key() + ": expected " + type_expected(row) + ", got \"" + text +
+                         "\" (" + (v == 0 ? "too small for a double: it rounds to 0" :
+                                            "too large for a double: at most 1.8e308") + ")");
+      if (errno && errno != ERANGE) return fail();
       return v;
     }
     case ParamType::kChoice:

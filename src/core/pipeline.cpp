@@ -8,9 +8,11 @@
 #include "util/run_beside.hpp"
 #include "util/stopwatch.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <new>
+#include <sstream>
 #include <opencv2/core.hpp>
 
 namespace proxseg {
@@ -96,6 +98,20 @@ FeatureBlocks feature_blocks(const FeatureParams& features, bool coloured, bool 
 
 namespace {
 
+// Stage 1 found nothing to work on: no valid point at all, or none within the voxels' reach, the
+// voxel side's fault (orders of magnitude too small), not the frame's: say which.
+[[noreturn]] void nothing_to_segment(const Frame& frame, double voxel_size, std::size_t valid) {
+  if (valid == 0) throw InputError("frame: no valid points to segment");
+  double farthest = 0;  // the largest coordinate of a valid point, in metres
+  for (std::size_t i = 0; i < frame.size(); ++i)
+    if (frame.valid(i)) farthest = std::max(farthest, double(frame.xyz[i].cwiseAbs().maxCoeff()));
+  std::ostringstream o;
+  o << "field voxels.voxel_size: none of the frame's " << valid << " valid points lies within "
+    << kVoxelReach << " voxels of the origin with voxel_size " << voxel_size
+    << " m (expected at least " << farthest / kVoxelReach << " m for this frame; the paper: 0.02)";
+  throw InputError(o.str());
+}
+
 bool on_image_grid(const SegmentParams& params, const Frame& frame) {
   return params.selection.geometry == SelectionParams::Geometry::kImage && frame.organized();
 }
@@ -111,7 +127,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
   r.voxels = build_voxels(frame, params.voxels.voxel_size);
-  if (r.voxels.size() == 0) throw InputError("frame: no valid points to segment");
+  if (r.voxels.size() == 0) nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
   r.clustered = dense_voxels(r.voxels, params.voxels.min_points_per_voxel);
   if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
@@ -257,7 +273,8 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
     r.voxels.voxel_size = params.voxels.voxel_size;
     const std::vector<char> within = voxelisable(frame, params.voxels.voxel_size,
                                                  r.voxels.valid_points, r.voxels.voxelised_points);
-    if (r.voxels.voxelised_points == 0) throw InputError("frame: no valid points to segment");
+    if (r.voxels.voxelised_points == 0)
+      nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
     read_geometry(within, params.threads);
     surface_labels(surfaces, within, r);
     r.times_ms.emplace_back("image_surfaces", surfaces_ms);

@@ -4,9 +4,30 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <string>
 
 namespace proxseg {
 namespace {
+
+std::string text(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+// A pixel with depth must give a point: one that cannot be held is the intrinsics' fault (a
+// scale or focal length off by orders of magnitude), not the depth image's, so say so.
+[[noreturn]] void beyond_float_range(int u, int v, double d, const Eigen::Vector3f& p,
+                                     const Intrinsics& k) {
+  const char* axis = !std::isfinite(p.z()) ? "z" : !std::isfinite(p.x()) ? "x" : "y";
+  throw InputError("intrinsics: pixel (" + std::to_string(u) + ", " + std::to_string(v) +
+                   ") with depth " + text(d) + " back-projects beyond the range of a float (" +
+                   axis + ") with fx " + text(k.fx) + ", fy " + text(k.fy) + ", cx " + text(k.cx) +
+                   ", cy " + text(k.cy) + ", depth_scale " + text(k.depth_scale) +
+                   " (expected fx, fy in pixels, cx, cy near the image centre, depth_scale in "
+                   "depth units per metre, 1000 for millimetres)");
+}
 
 template <class Depth>
 std::vector<Eigen::Vector3f> back_project_image(const Depth* depth, int width, int height,
@@ -27,6 +48,7 @@ std::vector<Eigen::Vector3f> back_project_image(const Depth* depth, int width, i
       const double z = d / k.depth_scale;
       xyz[i] = Eigen::Vector3f(static_cast<float>((u - k.cx) * z / k.fx),
                                static_cast<float>((v - k.cy) * z / k.fy), static_cast<float>(z));
+      if (!xyz[i].allFinite()) beyond_float_range(u, v, d, xyz[i], k);
     }
   return xyz;
 }

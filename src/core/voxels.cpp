@@ -74,10 +74,11 @@ std::vector<int> radix_order(const std::vector<Eigen::Vector3i>& keys, const Key
   return order;
 }
 
-// floor(t) as an int when -1e9 <= t < 1e9 + 1 (exactly when floor(t) is within +-1e9), without
-// the library call; false otherwise (and for NaN).
+// floor(t) as an int when -kVoxelReach <= t < kVoxelReach + 1 (exactly when floor(t) is within
+// the reach), without the library call; false otherwise (and for NaN).
 bool floor_within(double t, int& out) {
-  if (!(t >= -1e9 && t < 1e9 + 1)) return false;
+  static_assert(kVoxelReach < 2147483647.0, "a voxel coordinate is an int");
+  if (!(t >= -kVoxelReach && t < kVoxelReach + 1)) return false;
   const int truncated = static_cast<int>(t);
   out = truncated - (truncated > t);
   return true;

@@ -11,6 +11,10 @@ struct VoxelParams {
   int min_points_per_voxel = 10;  // sparser voxels are not clustered; they inherit a label later
 };
 
+// A voxel's integer coordinates stay within this many cells of the origin; points farther out
+// (or every point, for a voxel side orders of magnitude too small) are left out of the grid.
+constexpr double kVoxelReach = 1e9;
+
 struct VoxelGrid {
   double voxel_size = 0;
   std::vector<Eigen::Vector3i> keys;         // integer cell coordinates

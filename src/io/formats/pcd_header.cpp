@@ -185,9 +185,19 @@ void build_fields(const std::string& path, HeaderLines& r) {
       fail(path, "field " + f.name + " is TYPE F with SIZE " + std::to_string(f.size) +
                      " (expected SIZE 4 or 8 for F)");
     if (have_count) {
-      if (!parse_u64(r.counts[i], v) || v == 0 || v > (1u << 20))
+      // A bound far above any real descriptor (FPFH 33, VFH 308) keeps a point's size finite.
+      constexpr std::uint64_t kMaxCount = std::uint64_t{1} << 20;
+      const std::string_view count = r.counts[i];
+      const bool digits = !count.empty() && std::all_of(count.begin(), count.end(), [](char c) {
+        return c >= '0' && c <= '9';
+      });
+      const bool parsed = parse_u64(count, v);
+      if (!digits || (parsed && v == 0))
         fail(path, "field " + f.name + " has COUNT " + quote(r.counts[i]) +
                        " (expected a positive integer)");
+      if (!parsed || v > kMaxCount)  // digits beyond 2^64 too
+        fail(path, "field " + f.name + " has COUNT " + quote(r.counts[i]) + " (expected at most " +
+                       std::to_string(kMaxCount) + " values per field)");
       f.count = static_cast<std::size_t>(v);
     }
     f.offset = offset;
