@@ -2,7 +2,9 @@
 // small crops of real frames in every encoding the readers take, heads of the real files
 // (truncated inputs) and a few hand-mutated headers. Usage: make_seeds DATA_DIR OUT_DIR
 #include <proxseg/core/database.hpp>
+#include <proxseg/core/pipeline.hpp>
 #include <proxseg/io/cloud_io.hpp>
+#include <proxseg/io/output.hpp>
 #include <proxseg/recognition/database_io.hpp>
 
 #include <proxseg/io/params.hpp>
@@ -272,6 +274,39 @@ void database_seeds(const fs::path& data, const fs::path& out) {
   fs::remove_all(dir);
 }
 
+// Results as `proxseg view` reads them, packed as report | cloud: a segmentation of a crop of a
+// real frame, the same as a recognition (object field, a named object with a pose), a report
+// without its cloud and one cut short.
+void view_seeds(const fs::path& data, const fs::path& out) {
+  const proxseg::Frame scene = proxseg::read_pcd((data / "mosd/learn/learn0.pcd").string());
+  const proxseg::Frame crop = proxseg::test::frame_window(scene, 160, 220, 100, 140);
+  const fs::path dir =
+      fs::temp_directory_path() / ("proxseg-seed-view-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string prefix = (dir / "r").string();
+  proxseg::OutputSet outputs;
+  outputs.png = false;
+  const proxseg::SegmentParams params = proxseg::preset("default");
+  nlohmann::json report =
+      proxseg::write_segmentation(prefix, crop, params, proxseg::segment(crop, params), outputs);
+  const std::string cloud = slurp(prefix + ".pcd");
+  fs::remove_all(dir);
+  put(out, "segmentation", pack({report.dump(), cloud}));
+  put(out, "report-only", pack({report.dump(1), ""}));
+  put(out, "report-cut", pack({report.dump().substr(0, 300), cloud}));
+  nlohmann::json recognition = report;
+  recognition["database"] = "models.db";
+  const std::uint32_t id =
+      report["candidates"].empty() ? 1u : report["candidates"][0]["id"].get<std::uint32_t>();
+  recognition["candidates"] = nlohmann::json::array(
+      {{{"id", id},
+        {"name", "tin"},
+        {"colour", {1, 2, 3}},
+        {"score", 0.5},
+        {"pose", {{1, 0, 0, 0.1}, {0, 1, 0, 0}, {0, 0, 1, 0.5}, {0, 0, 0, 1}}}}});
+  put(out, "recognition", pack({recognition.dump(), replace(cloud, "instance\n", "object\n")}));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -286,6 +321,7 @@ int main(int argc, char** argv) {
     rgbd_seeds(data, out / "rgbd");
     config_seeds(data, out / "config");
     database_seeds(data, out);
+    view_seeds(data, out / "view");
   } catch (const std::exception& e) {
     std::cerr << "make_seeds: " << e.what() << "\n";
     return 1;

@@ -3,7 +3,7 @@
 # ../shared/data, and runs each harness for FUZZ_TIME seconds (FUZZ_JOBS at once), keeping going
 # after a finding (fork mode). Findings land in $FUZZ_BUILD/findings/<harness>/, the grown corpus
 # in $FUZZ_BUILD/corpus/<harness>/, one log per harness in $FUZZ_BUILD/logs/.
-# Usage: scripts/fuzz.sh [harness ...]   (default: all six)
+# Usage: scripts/fuzz.sh [harness ...]   (default: all seven)
 #   FUZZ_TIME=1800 FUZZ_JOBS=2 FUZZ_BUILD=build-fuzz DATA=../shared/data
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +12,7 @@ FUZZ_JOBS=${FUZZ_JOBS:-2}
 FUZZ_BUILD=${FUZZ_BUILD:-build-fuzz}
 DATA=${DATA:-../shared/data}
 harnesses=("$@")
-[ ${#harnesses[@]} -eq 0 ] && harnesses=(pcd ply rgbd config database folder_database)
+[ ${#harnesses[@]} -eq 0 ] && harnesses=(pcd ply rgbd config database folder_database view)
 
 command -v clang++-14 >/dev/null || { echo "fuzz: needs clang-14 and libclang-rt-14-dev (scripts/install-deps.sh --fuzz)" >&2; exit 1; }
 flags="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all"

@@ -372,8 +372,10 @@ ParamValue parse_parameter(const Parameter& row, const std::string& text) {
       // overflow or an underflow to zero is named as such, not as "not a number".
       if (errno == ERANGE && (std::isinf(v) || v == 0))
         throw InputError(row.key() + ": expected " + type_expected(row) + ", got \"" + text +
-                         "\" (" + (v == 0 ? "too small for a double: it rounds to 0" :
-                                            "too large for a double: at most 1.8e308") + ")");
+                         "\" (" +
+                         (v == 0 ? "too small for a double: it rounds to 0"
+                                 : "too large for a double: at most 1.8e308") +
+                         ")");
       if (errno && errno != ERANGE) return fail();
       return v;
     }

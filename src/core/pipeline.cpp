@@ -12,8 +12,8 @@
 #include <cmath>
 #include <functional>
 #include <new>
-#include <sstream>
 #include <opencv2/core.hpp>
+#include <sstream>
 
 namespace proxseg {
 namespace {
@@ -127,7 +127,8 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
   r.voxels = build_voxels(frame, params.voxels.voxel_size);
-  if (r.voxels.size() == 0) nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
+  if (r.voxels.size() == 0)
+    nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
   r.clustered = dense_voxels(r.voxels, params.voxels.min_points_per_voxel);
   if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
