@@ -118,9 +118,11 @@ void check_name(const std::string& object) {
     throw InputError("object name: expected a non-empty name other than \"unknown\"");
   for (unsigned char c : object)
     if (c < 32) throw InputError("object name: control characters are not allowed");
-  if (!is_utf8(object))
+  // shown_name leaves such a name as it is, so reports, `db info` and `--name` all see one text.
+  if (shown_name(object) != object)
     throw InputError("object name " + shown_name(object) +
-                     ": expected UTF-8 text (the name is shown in JSON reports)");
+                     ": expected UTF-8 text without \\\\ or \\xHH (the name is shown in JSON "
+                     "reports, where those read as escapes)");
 }
 
 void check_descriptor(const DescriptorParams& d) {

@@ -1,6 +1,8 @@
 // Names (file, frame, object) as bytes until shown: a name that is not UTF-8 is shown in JSON
 // with its bad bytes as \xFF-style text (and its backslashes doubled), so two bad names never
-// collide and the bytes can be had back (name_from_shown). A UTF-8 name is shown as it is.
+// collide and the bytes can be had back (name_from_shown). A UTF-8 name is shown as it is, unless
+// it holds text that reads as such an escape (`a\xFFb`, `a\\b`): that one is escaped too, so that
+// every name reads back to its own bytes.
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -42,10 +44,22 @@ inline bool is_utf8(const std::string& s) {
   return true;
 }
 
-// The name as JSON may hold it: itself when UTF-8, else each bad byte as \xHH and each
-// backslash as \\ (so the text reads back to the bytes, and two names never give one text).
+// Whether s[i] starts what name_from_shown reads as an escape: \\ or \x and two hex digits.
+inline bool escape_at(const std::string& s, std::size_t i) {
+  const auto hex = [&](std::size_t k) {
+    return k < s.size() && ((s[k] >= '0' && s[k] <= '9') || (s[k] >= 'A' && s[k] <= 'F'));
+  };
+  if (s[i] != '\\' || i + 1 >= s.size()) return false;
+  return s[i + 1] == '\\' || (s[i + 1] == 'x' && hex(i + 2) && hex(i + 3));
+}
+
+// The name as JSON may hold it: itself when UTF-8 without escape-like text, else each bad byte
+// as \xHH and each backslash as \\ (so the text reads back to the bytes, and two names never
+// give one text).
 inline std::string shown_name(const std::string& name) {
-  if (is_utf8(name)) return name;
+  bool plain = is_utf8(name);
+  for (std::size_t i = 0; plain && i < name.size(); ++i) plain = !escape_at(name, i);
+  if (plain) return name;
   static const char* hex = "0123456789ABCDEF";
   std::string out;
   for (std::size_t i = 0; i < name.size();) {
@@ -62,27 +76,23 @@ inline std::string shown_name(const std::string& name) {
   return out;
 }
 
-// The bytes of a shown name: the escapes read back when they give a name that is not UTF-8
-// (only such a name was escaped); the text itself otherwise.
+// The bytes of a shown name: a text holding escapes was escaped (shown_name escapes every name
+// that holds escape-like text), so they read back; any other text is the name itself.
 inline std::string name_from_shown(const std::string& shown) {
-  if (shown.find('\\') == std::string::npos) return shown;
-  const auto digit = [](char c) {
-    return c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
-  };
   std::string out;
   for (std::size_t i = 0; i < shown.size(); ++i) {
-    if (shown[i] == '\\' && i + 1 < shown.size() && shown[i + 1] == '\\') {
+    if (!escape_at(shown, i)) {
+      out += shown[i];
+    } else if (shown[i + 1] == '\\') {
       out += '\\';
       ++i;
-    } else if (shown[i] == '\\' && i + 3 < shown.size() && shown[i + 1] == 'x' &&
-               digit(shown[i + 2]) >= 0 && digit(shown[i + 3]) >= 0) {
+    } else {
+      const auto digit = [](char c) { return c <= '9' ? c - '0' : c - 'A' + 10; };
       out += static_cast<char>(digit(shown[i + 2]) * 16 + digit(shown[i + 3]));
       i += 3;
-    } else {
-      out += shown[i];
     }
   }
-  return is_utf8(out) ? shown : out;
+  return out;
 }
 
 // j with every string and key shown (shown_name): what can be dumped whatever bytes it holds.
@@ -102,13 +112,15 @@ inline nlohmann::json shown_json(const nlohmann::json& j) {
 }
 
 // j's text (nlohmann::json::dump) with its names shown: never throws on bytes that are not UTF-8.
-// Dumped as it is first: the copy is made only for a text that holds such bytes.
+// Dumped as it is first: the copy is made only for a text that holds such bytes or a backslash
+// (which JSON writes as \\; escape-like text is shown escaped).
 inline std::string dump_shown(const nlohmann::json& j, int indent = -1) {
   try {
-    return j.dump(indent);
+    std::string text = j.dump(indent);
+    if (text.find("\\\\") == std::string::npos) return text;
   } catch (const nlohmann::json::type_error&) {
-    return shown_json(j).dump(indent);
   }
+  return shown_json(j).dump(indent);
 }
 
 }  // namespace proxseg

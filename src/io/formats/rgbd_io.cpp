@@ -12,6 +12,7 @@
 
 #include "io/formats/image_file.hpp"
 #include "io/input_file.hpp"
+#include "io/json_file.hpp"
 #include "io/reader_errors.hpp"
 
 namespace proxseg {
@@ -19,7 +20,6 @@ namespace {
 
 using detail::fail;
 using detail::mat_kind;
-using detail::one_line;
 using detail::read_image;
 using detail::size_str;
 
@@ -39,13 +39,9 @@ double json_number(const std::string& path, const nlohmann::json& j, const char*
   return v;
 }
 
+// Camera files are read as configs are: nesting bounded, messages quoting excerpts (json_file.hpp).
 nlohmann::json read_json(const std::string& path) {
-  const std::string text = detail::read_input_file(path);
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    fail(path, "invalid JSON (" + one_line(e.what()) + ")");
-  }
+  return detail::read_json_file(path);
 }
 
 void check_intrinsics(const std::string& path, const Intrinsics& k) {
