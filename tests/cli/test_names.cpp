@@ -60,7 +60,7 @@ TEST(Names, BatchWithFramesNotUtf8FinishesAndResumes) {
 
 // The hostile frame names of issue 54 (point 2): a scheme, a fragment, a query, a percent sign
 // and an escape, space, quotes and markup, text that is not ASCII, bytes that are not UTF-8,
-// and a frame in a subfolder (its id holds a '/').
+// a frame in a subfolder (its id holds a '/'), and one whose files are renamed (summary-frame.*).
 const std::vector<std::string> kHostile = {"javascript:alert(document.domain)",
                                            "a#b",
                                            "50%",
@@ -70,7 +70,8 @@ const std::vector<std::string> kHostile = {"javascript:alert(document.domain)",
                                            "quote\"'<&>",
                                            "\xc3\xbcn\xc3\xaf",
                                            "bad\xff",
-                                           "d#ir/j:s"};
+                                           "d#ir/j:s",
+                                           "summary"};
 
 // A scene small enough to segment in a few milliseconds, written to path: 64x48 points of a
 // grey table and a red box in front of it (ASCII PCD, packed RGB as an integer).

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """The batch page in a real browser with hostile frame names (issue 54, point 2): a batch whose
 frames are named like a javascript: URL, with '#', '%', '?', spaces, quotes, markup, text that
-is not ASCII, bytes that are not UTF-8 and a subfolder (each a copy of one tiny scene), opened
-by headless Chromium (python/tests/chromium.py, over its DevTools pipe). No script of a name
-runs, every picture loads, and every link, clicked as a user clicks it, opens the file the
-batch wrote.
+is not ASCII, bytes that are not UTF-8, a subfolder and "summary" (its files renamed
+summary-frame.*), each a copy of one tiny scene, opened by headless Chromium
+(python/tests/chromium.py, over its DevTools pipe). No script of a name runs, every picture
+loads, and every link, clicked as a user clicks it, opens the file the batch wrote.
 
 Usage: batch_links_test.py PROXSEG SOURCE_DIR. Exit 0 when all holds, 1 with what did not, 77
 (ctest's SKIP_RETURN_CODE) when there is no chromium."""
@@ -22,17 +22,19 @@ SKIP = 77
 # The frames, as bytes (file names are bytes): each is copied from one synthetic scene.
 NAMES = [b"javascript:alert(document.domain)", b"javascript:document.title='pwned';[]",
          b"a#b", b"50%", b"%41", b"q?x=1", b"sp ace", b"quote\"'<&>",
-         "\u00fcn\u00ef".encode(), b"bad\xff", b"d#ir/j:s"]
+         "\u00fcn\u00ef".encode(), b"bad\xff", b"d#ir/j:s", b"summary"]
 
 # Every picture loaded or failed (lazy ones too: the window is tall enough to show them all).
 PICTURES = """Promise.all([...document.images].map(i => i.complete ? 0
   : new Promise(r => { i.onload = i.onerror = r; }))).then(() =>
   [...document.images].map(i => [i.getAttribute('src'), i.src, i.naturalWidth]))"""
-# Each link: its attribute, the URL the browser made of it, and where to click it.
-LINKS = """[...document.querySelectorAll('a')].map(a => {
+# Each link: its attribute and the URL the browser made of it.
+LINKS = "[...document.querySelectorAll('a')].map(a => [a.getAttribute('href'), a.href])"
+# Where to click the link numbered %d: its middle, once scrolled into view.
+PLACE = """(() => { const a = document.querySelectorAll('a')[%d];
   a.scrollIntoView({block: 'center'});
   const r = a.getBoundingClientRect();
-  return [a.getAttribute('href'), a.href, r.x + r.width / 2, r.y + r.height / 2]; })"""
+  return [r.x + r.width / 2, r.y + r.height / 2]; })()"""
 
 
 def write_tiny_scene(path: Path) -> None:
@@ -115,14 +117,13 @@ def check(browser, out: Path) -> list:
     links = browser.evaluate(LINKS)
     if len(links) != len(NAMES):
         wrong.append(f"{len(links)} links for {len(NAMES)} frames")
-    for href, url, x, y in links:
+    for number, (href, url) in enumerate(links):
         if not href.startswith("./"):
             wrong.append(f"link {href!r}: not relative (./)")
         if not file_of(url, out):
             wrong.append(f"link {href!r}: {url} is no file of the batch")
         browser.open(index)
-        browser.evaluate(LINKS)  # scrolled as when its place was measured
-        what, detail = click(browser, x, y)
+        what, detail = click(browser, *browser.evaluate(PLACE % number))
         opened = file_of(detail, out) if what == "opened" else b""
         if not opened or opened != file_of(url, out):
             wrong.append(f"clicking link {href!r}: {what} {detail!r}")

@@ -18,9 +18,10 @@ namespace fs = std::filesystem;
 
 // The link to the frame's output with this extension when the row lists it, else null: the
 // URL of its name's bytes (the log shows a name that is not UTF-8 as \xFF text), relative and
-// percent-encoded (page_text.hpp), the only form in which a name goes into a link.
+// percent-encoded (page_text.hpp), the only form in which a name goes into a link. The file is
+// named by output_stem (a frame named "summary" writes summary-frame.*).
 json output_link(const json& row, const std::string& extension) {
-  const std::string shown = row.value("frame", "") + extension;
+  const std::string shown = output_stem(row.value("frame", "")) + extension;
   if (!row.contains("outputs") || !row["outputs"].contains(shown)) return json();
   return detail::relative_url(name_from_shown(shown));
 }
