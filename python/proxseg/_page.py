@@ -7,6 +7,7 @@ import html
 import os
 import tempfile
 import webbrowser
+from pathlib import Path
 from typing import Union
 
 
@@ -27,7 +28,8 @@ def show(page: str, path: Union[str, "os.PathLike[str]", None] = None,
     with open(path, "w", encoding="utf-8") as f:
         f.write(page)
     if browser:
-        webbrowser.open("file://" + os.path.abspath(path))
+        # Path.as_uri percent-encodes the path's bytes: a '#', '?' or '%' in it stays a name.
+        webbrowser.open(Path(os.path.abspath(path)).as_uri())
     return os.fspath(path)
 
 

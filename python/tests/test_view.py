@@ -213,3 +213,22 @@ def test_python_results_show_the_same_page(tmp_path, ycb_db, browser):
     browser.evaluate("proxsegView.ready")
     assert [e["name"] for e in browser.evaluate("proxsegView.legend()")] == rec.names
     assert browser.errors() == []
+
+
+def test_show_opens_the_file_it_wrote_whatever_its_name(tmp_path, monkeypatch):
+    """show()'s URL is the path percent-encoded (Path.as_uri): a '#', '?', '%' or byte that is
+    not UTF-8 in the path opens that file, not another one or a fragment (issue 54)."""
+    import os
+    import webbrowser
+    from urllib.parse import unquote_to_bytes, urlsplit
+
+    from proxseg import _page
+
+    opened = []
+    monkeypatch.setattr(webbrowser, "open", opened.append)
+    for name in ["a#b.html", "q?x=1.html", "%41.html", "sp ace.html", os.fsdecode(b"bad\xff.html")]:
+        path = _page.show("<p>x</p>", tmp_path / name)
+        url = urlsplit(opened[-1])
+        assert url.scheme == "file" and not url.query and not url.fragment, opened[-1]
+        assert unquote_to_bytes(url.path) == os.fsencode(os.path.abspath(path)), opened[-1]
+

@@ -1,6 +1,7 @@
 // The 3D page (io/view_page.hpp) and the batch page (io/batch_page.hpp) as data: the points the
 // page embeds decode to the frame's points and ids, the legends are the report's, and bad input
-// is an InputError. python/tests/test_view.py loads the pages in a browser.
+// is an InputError; names become relative, percent-encoded links (page_text.hpp).
+// python/tests/test_view.py and tests/page/ load the pages in a browser.
 #include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
 #include <proxseg/core/render.hpp>
@@ -15,6 +16,8 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+
+#include "io/page/page_text.hpp"
 
 namespace {
 
@@ -133,6 +136,34 @@ TEST(ViewPage, NoTextOfTheReportEndsThePagesScript) {
       view_page(s.frame, {}, s.report, {ViewOptions{}.max_points, "@JS@ @POINTS@ @HEAD@"});
   EXPECT_NE(odd.find("\"title\":\"@JS@ @POINTS@ @HEAD@\""), std::string::npos);
   EXPECT_EQ(odd.size(), plain.size() + std::string("@JS@ @POINTS@ @HEAD@").size() - 1);
+}
+
+// RFC 3986's unreserved characters stay, '/' stays between folders, every other byte is %XX
+// (upper-case hex): a scheme's ':', a fragment's '#', a query's '?', '%' itself, space, quotes,
+// markup, UTF-8 and bytes that are not UTF-8 alike; and the link always starts with "./".
+TEST(ViewPage, RelativeUrlKeepsUnreservedAndPercentEncodesEveryOtherByte) {
+  using detail::relative_url;
+  EXPECT_EQ(relative_url("learn0.png"), "./learn0.png");
+  EXPECT_EQ(relative_url("AZaz09-._~"), "./AZaz09-._~");
+  EXPECT_EQ(relative_url("javascript:alert(document.domain).html"),
+            "./javascript%3Aalert%28document.domain%29.html");
+  EXPECT_EQ(relative_url("a#b?x=1&y;50%"), "./a%23b%3Fx%3D1%26y%3B50%25");
+  EXPECT_EQ(relative_url("%41"), "./%2541");  // not "A": an escape in a name is its text
+  EXPECT_EQ(relative_url("sp ace\"'<>`\\"), "./sp%20ace%22%27%3C%3E%60%5C");
+  EXPECT_EQ(relative_url("\xc3\xbcn\xc3\xaf"), "./%C3%BCn%C3%AF");               // UTF-8: its bytes
+  EXPECT_EQ(relative_url(std::string("bad\xff\x00\x7f", 6)), "./bad%FF%00%7F");  // any byte
+  EXPECT_EQ(relative_url("video1/d#ir/j:s.png"), "./video1/d%23ir/j%3As.png");
+  EXPECT_EQ(relative_url(""), "./");
+  // Whatever the bytes, nothing but "./", unreserved characters, '/' and %XX.
+  std::string all;
+  for (int b = 0; b < 256; ++b) all += static_cast<char>(b);
+  const std::string url = relative_url(all);
+  ASSERT_EQ(url.compare(0, 2, "./"), 0);
+  EXPECT_EQ(url.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789"
+                                  "-._~/%",
+                                  2),
+            std::string::npos);
+  EXPECT_EQ(url.size(), 2 + 67 + 3 * (256 - 67));  // 66 unreserved and '/' kept, 189 encoded
 }
 
 TEST(ViewPage, BadInputIsAnInputError) {

@@ -16,14 +16,19 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-// The name of the frame's output with this extension when the row lists it, else null.
-json output_named(const json& row, const std::string& extension) {
-  const std::string name = row.value("frame", "") + extension;
-  return row.contains("outputs") && row["outputs"].contains(name) ? json(name) : json();
+// The link to the frame's output with this extension when the row lists it, else null: the
+// URL of its name's bytes (the log shows a name that is not UTF-8 as \xFF text), relative and
+// percent-encoded (page_text.hpp), the only form in which a name goes into a link. The file is
+// named by output_stem (a frame named "summary" writes summary-frame.*).
+json output_link(const json& row, const std::string& extension) {
+  const std::string shown = output_stem(row.value("frame", "")) + extension;
+  if (!row.contains("outputs") || !row["outputs"].contains(shown)) return json();
+  return detail::relative_url(name_from_shown(shown));
 }
 
 // [frame, ms, count, named, error, picture, page], as batch.js reads it: count is the
-// candidates of a segmentation or the objects of a recognition, named those with a name.
+// candidates of a segmentation or the objects of a recognition, named those with a name;
+// picture and page are links (output_link).
 json page_row(const json& row) {
   json count, named;
   if (row.contains("objects")) {
@@ -39,8 +44,8 @@ json page_row(const json& row) {
           count,
           named,
           row.contains("error") ? row["error"] : json(),
-          output_named(row, ".png"),
-          output_named(row, ".html")};
+          output_link(row, ".png"),
+          output_link(row, ".html")};
 }
 
 }  // namespace

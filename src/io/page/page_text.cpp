@@ -33,6 +33,22 @@ std::string substituted(const std::string& text, const Parts& parts) {
 
 }  // namespace
 
+std::string relative_url(const std::string& path) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out = "./";
+  for (const char c : path) {
+    const auto b = static_cast<unsigned char>(c);
+    // By ranges, not std::isalnum: that follows the locale, which may take bytes above 127.
+    const bool unreserved = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
+                            (c >= '0' && c <= '9') || c == '-' || c == '.' || c == '_' || c == '~';
+    if (unreserved || c == '/')  // '/' only between folders: a name cannot hold one
+      out += c;
+    else
+      out += {'%', hex[b >> 4], hex[b & 15]};
+  }
+  return out;
+}
+
 std::string script_safe(const std::string& json_text) {
   std::string out;
   out.reserve(json_text.size());

@@ -7,7 +7,8 @@
   const started = performance.now();
   const data = JSON.parse(document.getElementById("proxseg-rows").textContent);
   const PAGE = 60;
-  // A row: [frame, ms, count, named, error, picture, page] (indices below).
+  // A row: [frame, ms, count, named, error, picture, page] (indices below). picture and page
+  // are links made by the page's writer (batch_page.cpp): "./" and the name percent-encoded.
   const F = { frame: 0, ms: 1, count: 2, named: 3, error: 4, picture: 5, page: 6 };
   const rows = data.rows;
   const state = { filter: "", status: "all", sort: "name", minCount: 0, minMs: 0, page: 0,
@@ -49,11 +50,16 @@
   };
   const seconds = (ms) => (ms >= 1000 ? (ms / 1000).toFixed(2) + " s" : ms.toFixed(0) + " ms");
 
+  // Only such a link is followed or loaded: none that is not relative (a scheme such as
+  // javascript:), whatever a page's rows were made of.
+  const local = (link) => (typeof link === "string" && link.startsWith("./") ? link : null);
+
   function card(r) {
     const failed = r[F.error] !== null;
-    const link = r[F.page] || r[F.picture];
-    const picture = r[F.picture]
-      ? el("img", { src: r[F.picture], loading: "lazy", alt: r[F.frame] })
+    const page = local(r[F.page]), src = local(r[F.picture]);
+    const link = page || src;
+    const picture = src
+      ? el("img", { src, loading: "lazy", alt: r[F.frame] })
       : el("div", { className: "nopicture", textContent: failed ? "failed" : "no picture" });
     const what = data.command === "recognize"
       ? `${r[F.named]} named of ${r[F.count]}`
@@ -62,7 +68,7 @@
       el("span", { textContent: failed ? "failed" : `${what} · ${seconds(r[F.ms])}` })];
     if (failed) lines.push(el("span", { className: "error", textContent: r[F.error] }));
     const c = el("figure", { className: failed ? "card failed" : "card" },
-      link ? el("a", { href: link, title: r[F.page] ? "the 3D page" : "the picture" }, picture)
+      link ? el("a", { href: link, title: page ? "the 3D page" : "the picture" }, picture)
         : picture, el("figcaption", {}, ...lines));
     c.dataset.frame = r[F.frame];
     return c;
