@@ -36,26 +36,27 @@ TEST(Names, BatchWithFramesNotUtf8FinishesAndResumes) {
   fs::remove_all(in);
   fs::remove_all(out);
   fs::create_directories(in);
-  for (const std::string name : {"a", "bad\xff", "bad\xfe", "z"})
+  // lit\xFF: UTF-8 holding escape-like text, shown escaped too so that it reads back to itself.
+  for (const std::string name : {"a", "bad\xff", "bad\xfe", "lit\\xFF", "z"})
     fs::copy_file(learn0(), in / (name + ".pcd"));
   const std::string args =
       "segment --batch " + in.string() + " -o " + out.string() + " --outputs json";
   CliRun r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json summary = nlohmann::json::parse(slurp(out / "summary.json"));
-  EXPECT_EQ(summary["frames_done"], 4) << summary.dump(2);
+  EXPECT_EQ(summary["frames_done"], 5) << summary.dump(2);
   EXPECT_EQ(summary["frames_failed"], 0);
   std::set<std::string> names;
   for (const auto& row : frame_rows(out / "summary.jsonl")) names.insert(row["frame"]);
   // Two bad names stay two (no U+FFFD for both), shown as \xFF text.
-  EXPECT_EQ(names, (std::set<std::string>{"a", "bad\\xFF", "bad\\xFE", "z"}));
+  EXPECT_EQ(names, (std::set<std::string>{"a", "bad\\xFF", "bad\\xFE", "lit\\\\xFF", "z"}));
   EXPECT_TRUE(fs::exists(out / "bad\xff.json"));
   EXPECT_TRUE(nlohmann::json::accept(slurp(out / "bad\xff.json")));  // its report is JSON too
   // --resume finds them all finished: no frame is done again.
   r = run(args + " --resume");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(frame_rows(out / "summary.jsonl").size(), 4u) << r.err;
-  EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["frames_done"], 4);
+  EXPECT_EQ(frame_rows(out / "summary.jsonl").size(), 5u) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["frames_done"], 5);
 }
 
 // The hostile frame names of issue 54 (point 2): a scheme, a fragment, a query, a percent sign
@@ -68,6 +69,7 @@ const std::vector<std::string> kHostile = {"javascript:alert(document.domain)",
                                            "q?x=1",
                                            "sp ace",
                                            "quote\"'<&>",
+                                           "lit\\xFF",  // text that reads as an escape
                                            "\xc3\xbcn\xc3\xaf",
                                            "bad\xff",
                                            "d#ir/j:s",
