@@ -48,28 +48,28 @@ std::string file_uri(const std::string& path) {
   return uri;
 }
 
-// Why this process may not write `p` ("" when it may): the system refuses (another user's file,
-// a read-only mount), or nobody may (a mode without a write bit: root may write anything, but a
-// file or folder made read-only is meant to stay as it is).
-std::string refusal(const std::string& p) {
+// Why this process may not write `p` ("" when it may), said of `what` ("it", "its folder DIR"):
+// the system refuses (another user's file, a read-only mount), or nobody may (a mode without a
+// write bit: root may write anything, but a file or folder made read-only is meant to stay so).
+std::string refusal(const std::string& p, const std::string& what) {
   struct stat st {};
-  if (::stat(p.c_str(), &st) != 0) return p + ": " + std::strerror(errno);
+  const std::string who = what == "it" ? "" : what + ": ";  // the file itself goes unnamed
+  if (::stat(p.c_str(), &st) != 0) return who + std::strerror(errno);
   if ((st.st_mode & 0222) == 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    return p + " has mode " + mode;
+    return what + " has mode " + mode;
   }
-  if (::faccessat(AT_FDCWD, p.c_str(), W_OK, AT_EACCESS) != 0)
-    return p + ": " + std::strerror(errno);
+  if (::faccessat(AT_FDCWD, p.c_str(), W_OK, AT_EACCESS) != 0) return who + std::strerror(errno);
   return "";
 }
 
 // Why this process may not write the database file or make files beside it ("" when it may).
 std::string write_refusal(const std::string& path) {
-  const std::string file = refusal(path);
-  if (!file.empty()) return file;
-  const std::string dir = fs::path(path).parent_path().string();
-  return refusal(dir.empty() ? "." : dir);
+  if (std::string why = refusal(path, "it"); !why.empty()) return why;
+  std::string dir = fs::path(path).parent_path().string();
+  if (dir.empty()) dir = ".";
+  return refusal(dir, "its folder " + dir);
 }
 
 // Whether the -wal beside `path` holds pages (changes that may not be in the file yet).
@@ -177,13 +177,19 @@ void* Sqlite::open(Mode mode) const {
   std::string wal_note;  // why a read-only open that fails may have failed
   if (mode == Mode::kRead && !write_refusal(path_).empty()) {
     flags |= SQLITE_OPEN_READONLY;
-    if (!wal_holds_changes(path_))
+    if (!wal_holds_changes(path_)) {
       uri += "?immutable=1";
-    else
-      wal_note = "; " + path_ + "-wal holds changes not yet folded into the file, which this " +
-                 "process cannot read without writing beside it (" + write_refusal(path_) +
+    } else {
+      // Read through the -wal and the -shm that indexes it; SQLite would make a missing -shm.
+      wal_note = path_ + "-wal holds changes not yet folded into the file, which this process " +
+                 "cannot read without writing beside it (" + write_refusal(path_) +
                  "): open the database once as a user who may write it, e.g. `proxseg db info " +
                  fs::path(path_).parent_path().string() + "`";
+      std::error_code ec;
+      if (!fs::exists(path_ + "-shm", ec))
+        throw FileError(wal_note + " (there is no " + path_ + "-shm to read it by)", EACCES);
+      wal_note = "; " + wal_note;
+    }
   } else {
     flags |= SQLITE_OPEN_READWRITE | (mode == Mode::kCreate ? SQLITE_OPEN_CREATE : 0);
     // A file this process may not write would be opened read-only by SQLite, which then makes
