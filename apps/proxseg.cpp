@@ -32,18 +32,27 @@ fs::path tools_program() {
 }
 
 // Replaces this process with proxseg-tools; returns only when that fails (exit code 1).
-int run_tools(char** argv) {
+int run_tools(char** argv, const std::string& command) {
   const fs::path tools = tools_program();
   ::execv(tools.c_str(), argv);
-  std::cerr << "proxseg: error: cannot run " << tools.string() << " for `" << argv[1]
+  std::cerr << "proxseg: error: cannot run " << tools.string() << " for `" << command
             << "`: " << std::strerror(errno) << "\n";
   return 1;
+}
+
+// The command given: the first argument that is not an option. The program's own options
+// (-q, -v: flags, taking no value) may come before it, as in git (`proxseg -q db info DB`).
+std::string command_of(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-' || argv[i][1] == '\0') return argv[i];
+  return "";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1 && tool_about(argv[1])[0] != '\0') return run_tools(argv);
+  if (const std::string command = command_of(argc, argv); tool_about(command)[0] != '\0')
+    return run_tools(argv, command);
   SegmentCommand segment;
   SummaryOptions summary;
   ParamsOptions params;

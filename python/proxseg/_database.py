@@ -24,6 +24,10 @@ class Database:
     until a view is added); ``voxel_size``, ``normal_radius`` (metres) and ``fpfh_radii``
     (metres) set a new database's descriptor.
 
+    A database this process may not write (another user's, a read-only file, folder or mount)
+    opens to read all the same, leaving no file beside it; an add, remove or rename then raises
+    OSError naming the file (docs/database.md, "Readers without write access").
+
     Recognitions may read one Database from several threads at once and never wait for an add:
     each works on the database as it was when it started. Adds (from any thread or process)
     take turns and each lands whole.

@@ -1,10 +1,13 @@
 """The model database shared by processes and threads (docs/database.md, "Sharing"): two CLI
 writers and four CLI readers at once, a Python Database beside a CLI add, SIGKILL during an add,
 a write refused for want of space, an add while threads recognise; an object name that is not
-UTF-8 (issue 54)."""
+UTF-8, a database read without write access (issue 54)."""
 
 import json
+import os
+import signal
 import subprocess
+import sys
 import threading
 import time
 
@@ -167,3 +170,79 @@ def test_a_database_holding_an_object_name_not_utf8_still_opens(tmp_path):
     r = subprocess.run([CLI, "db", "add", str(db), "--name", b"mug\xfe", "--xyz",
                         str(data("ycbv/models/025_mug/points.xyz"))], capture_output=True)
     assert r.returncode == 1 and b"UTF-8" in r.stderr, r.stderr
+
+
+MILK = data("pcl/milk.pcd")
+
+
+def test_a_read_only_database_is_read_and_nothing_is_made_beside_it(tmp_path):
+    # Issue 54: a file and folder nobody may write (root may, but they are meant to stay as they
+    # are) are read as immutable: no -wal, -shm or -journal; writing is refused with the file.
+    # The folder's name holds the characters a file: URI gives a meaning to.
+    db = tmp_path / "a?b#c%20d" / "db"
+    run_cli("db", "add", db, "--name", "milk", MILK)
+    (db / "database.sqlite").chmod(0o444)
+    db.chmod(0o555)
+    try:
+        before = sorted(os.listdir(db))
+        d = proxseg.Database(db)
+        assert d.objects == ["milk"] and d.info()["views"] == 1
+        assert d.check()["whole"] == 1 and len(d.view(0)["xyz"]) > 0
+        try:
+            d.add_view("other", np.asarray(d.view(0)["xyz"]))
+            raise AssertionError("an add into a read-only database was accepted")
+        except OSError as e:
+            assert "database.sqlite" in str(e) and "0444" in str(e), e
+        del d
+        assert sorted(os.listdir(db)) == before
+    finally:
+        db.chmod(0o755)
+        (db / "database.sqlite").chmod(0o644)
+    # Writable again: read and written in place, whatever its folder's name.
+    d = proxseg.Database(db)
+    d.add_view("other", np.asarray(d.view(0)["xyz"]))
+    assert proxseg.Database(db).objects == ["milk", "other"]
+
+
+HOLD = """
+import sqlite3, sys, time
+c = sqlite3.connect(sys.argv[1], isolation_level=None)
+c.execute("BEGIN")
+c.execute("SELECT count(*) FROM views").fetchall()
+print("holding", flush=True)
+time.sleep(60)
+"""
+
+
+def test_a_wal_holding_changes_is_read_or_refused_never_ignored(tmp_path):
+    # A process killed while it read the database kept the writer's checkpoint from folding
+    # the add in: database.sqlite-wal holds it. A reader that may not write reads it through the
+    # -shm; without the -shm it says so, naming the -wal, rather than read the file without it.
+    db = tmp_path / "db"
+    run_cli("db", "add", db, "--name", "milk", MILK)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD, str(db / "database.sqlite")],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline() == "holding\n"
+        run_cli("db", "add", db, "--name", "second", MILK)
+    finally:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait()
+    assert (db / "database.sqlite-wal").stat().st_size > 0
+    (db / "database.sqlite").chmod(0o444)
+    db.chmod(0o555)
+    try:
+        assert proxseg.Database(db).objects == ["milk", "second"]
+        assert [o["name"] for o in info(db)["objects"]] == ["milk", "second"]
+        db.chmod(0o755)
+        os.remove(db / "database.sqlite-shm")
+        db.chmod(0o555)
+        r = cli("db", "info", db)
+        assert r.returncode == 1, r.stdout
+        assert "database.sqlite-wal holds changes" in r.stderr, r.stderr
+        assert "proxseg db info" in r.stderr, r.stderr
+    finally:
+        db.chmod(0o755)
+        (db / "database.sqlite").chmod(0o644)
+    assert info(db)["views"] == 2  # a process that may write folds the -wal in
+    assert sorted(os.listdir(db)) == ["database.sqlite"]

@@ -40,7 +40,12 @@ class Statement {
 class Sqlite {
  public:
   enum class Mode {
-    kRead,    // an existing file, as it is (read-only when the file or its folder is)
+    // An existing file, as it is: its journal mode is not changed. Opened read-write when this
+    // process may write the file and its folder (so that the last to close it folds the -wal and
+    // -shm back in, which a read-only connection cannot); else read-only, and immutable (no
+    // -wal, -shm or lock made) unless a -wal holds changes not yet folded in (docs/database.md,
+    // "Readers without write access").
+    kRead,
     kWrite,   // an existing file, made WAL
     kCreate,  // the same, created when missing
   };
@@ -61,7 +66,8 @@ class Sqlite {
   // Runs sql; a failure says what was being done (`doing`, or the statement).
   void exec(const std::string& sql, const std::string& doing = {});
   // f inside BEGIN IMMEDIATE ... COMMIT (the write lock taken first, so that two writers queue
-  // instead of failing at commit); rolled back when f throws or the commit fails.
+  // instead of failing at commit); rolled back when f throws or the commit fails. A connection
+  // opened to read is reopened to write first (FileError when this process may not write).
   void write(const std::function<void()>& f);
   // f inside one read transaction: everything it reads comes from one state of the file.
   void read(const std::function<void()>& f);
@@ -71,9 +77,12 @@ class Sqlite {
   void* handle() const { return db_; }
 
  private:
+  // The connection `mode` wants, configured: its handle (the caller keeps or closes it).
+  void* open(Mode mode) const;
   // Busy timeout, extended codes, page size and journal (WAL) as `mode` wants them.
-  void configure(Mode mode);
+  void configure(void* db, Mode mode) const;
   std::string path_;
+  Mode mode_;
   void* db_ = nullptr;
   std::mutex mutex_;
 };

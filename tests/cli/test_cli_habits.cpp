@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <regex>
 #include <set>
 
@@ -218,6 +219,48 @@ TEST(CliHabits, QuietSaysOnlyProblemsAndVerboseIsAccepted) {
   EXPECT_TRUE(has(r.err, "valid points")) << r.err;
   r = run("segment --verbose " + learn0() + " -o " + (d / "a").string());
   EXPECT_EQ(r.code, 0) << r.err;
+}
+
+// Global options go before the command too, as in git (`proxseg -q db info DB`): also for the
+// commands that proxseg-tools runs.
+TEST(CliHabits, GlobalOptionsGoBeforeAnyCommand) {
+  const std::string db = (scratch() / "db").string();
+  const std::string milk = kData + "/pcl/milk.pcd";
+  CliRun r = run("--quiet db add " + db + " --name milk " + milk);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  for (const std::string flags : {"-q", "--quiet", "-v", "--verbose", "-q -v"}) {
+    SCOPED_TRACE(flags);
+    r = run(flags + " db info " + db + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["views"], 1);
+  }
+  r = run("-q recognize --db " + db + " --object " + milk + " -o -");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  r = run("-q --bogus db info " + db);  // still a usage error, naming the flag
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "unknown option --bogus")) << r.err;
+}
+
+// What `db check` cannot open is said as it is (not a database, missing), not "see proxseg db
+// check"; a file it may not read: tests/cli/test_readonly_db.cpp.
+TEST(CliHabits, DbCheckSaysWhyItCannotOpenAFile) {
+  const fs::path d = scratch();
+  fs::create_directories(d / "junk");
+  std::ofstream(d / "junk/database.sqlite") << std::string(4096, 'x');
+  for (const std::string& cmd : std::vector<std::string>{
+           "db check ", "db info ", "recognize --object " + learn0() + " -o - --db "}) {
+    SCOPED_TRACE(cmd);
+    CliRun r = run(cmd + (d / "junk").string());
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_TRUE(has(r.err, (d / "junk/database.sqlite").string() + ": not a SQLite database file"))
+        << r.err;
+    EXPECT_FALSE(has(r.err, "see proxseg db check")) << r.err;
+  }
+  const CliRun r = run("db check " + (d / "none").string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "none: does not exist")) << r.err;
 }
 
 TEST(CliHabits, ABatchRunAgainWithoutResumeSaysSo) {
