@@ -48,7 +48,8 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
       ->group(group::kBatch);
   cmd->add_flag("--resume", o.resume,
                 "Skip the frames an earlier run into OUT finished (outputs whole, as its "
-                "summary recorded them); a killed run's other frames are done again")
+                "summary recorded them, and inputs of the same size and time); a killed run's "
+                "other frames, and those whose input changed, are done again")
       ->group(group::kBatch);
   cmd->add_option("--colour-pattern", o.naming.colour,
                   "RGB-D pairs in a batch: colour image name, {id} = the frame's name")

@@ -36,7 +36,8 @@ nlohmann::json segment_frame(const FrameSource& frame, const SegmentJob& job);
 // The pieces a frame's job is made of (segment_frame, recognize_frame in
 // proxseg/recognition/recognize_frame.hpp): OUT_DIR/<output_stem(id)> with its folder made
 // (FileError when it cannot be); {file relative to out_dir: bytes} of the files just written; the
-// row around the work: "frame", "inputs", then what work adds or "error" (an exception's message,
+// row around the work: "frame", "inputs" (with "input_sizes" and "input_mtimes_ns", taken before
+// the work), then what work adds or "error" (an exception's message,
 // naming the frame's first input; "out of memory" for std::bad_alloc), "ms" and "rss_mib".
 std::string output_prefix(const std::string& out_dir, const std::string& id);
 // The name of a frame's outputs in out_dir: its id, except where the outputs would take the
