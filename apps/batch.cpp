@@ -48,7 +48,8 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
       ->group(group::kBatch);
   cmd->add_flag("--resume", o.resume,
                 "Skip the frames an earlier run into OUT finished (outputs whole, as its "
-                "summary recorded them); a killed run's other frames are done again")
+                "summary recorded them, and inputs of the same size and time); a killed run's "
+                "other frames, and those whose input changed, are done again")
       ->group(group::kBatch);
   cmd->add_option("--colour-pattern", o.naming.colour,
                   "RGB-D pairs in a batch: colour image name, {id} = the frame's name")
@@ -144,6 +145,15 @@ proxseg::BatchStart start(const SegmentOptions& o, const std::string& out_dir,
   if (b.redone > 0)
     say() << "proxseg: note: " << out_dir << " holds " << counted(b.redone, "frame")
           << " an earlier run finished; doing them again (--resume skips them)\n";
+  if (b.changed > 0)
+    say() << "proxseg: note: " << counted(b.changed, "frame")
+          << " whose input changed (size or time) since an earlier run finished them; doing "
+          << (b.changed == 1 ? "it" : "them") << " again\n";
+  if (b.unproven > 0)
+    say() << "proxseg: note: " << counted(b.unproven, "frame")
+          << " logged without their inputs' size and time or the settings' fingerprint (an "
+             "older proxseg's log); doing "
+          << (b.unproven == 1 ? "it" : "them") << " again\n";
   const std::string shard_name = std::to_string(plan.shard) + "/" + std::to_string(plan.shards);
   say() << "proxseg: " << counted(b.frames.size(), "frame")
         << (plan.shards > 1 ? " in shard " + shard_name + " of " + std::to_string(b.frames_all)

@@ -253,6 +253,8 @@ void make_parent(const std::string& path) {
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec)
     throw InputError(parent.string() + ": cannot create output directory (" + ec.message() + ")");
+  // A folder that exists but takes no file (read-only) fails here too, before the input is read.
+  proxseg::check_writable_folder(parent.string());
 }
 
 namespace {

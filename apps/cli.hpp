@@ -133,7 +133,8 @@ inline Progress progress_bar(std::size_t total) {
 
 // "1 object", "3 objects": n and the noun, plural unless n is 1.
 std::string counted(std::size_t n, const std::string& noun);
-// Creates the parent directory of path (InputError if it cannot).
+// Creates the parent directory of path and checks that files can be made in it (InputError
+// naming it if not): called before the input is read.
 void make_parent(const std::string& path);
 
 // --outputs: proxseg::parse_outputs, a usage error when the list is wrong.

@@ -107,7 +107,10 @@ int run_segment(const SegmentCommand& o) {
   warn_renamed(renamed);
   const proxseg::SegmentParams params = segment_params(o, base);
   if (!o.batch.empty()) return run_segment_batch(o, params);
-  if (!to.prefix.empty()) make_parent(to.prefix);  // before the work: an unwritable output fails
+  // Before the work: an output that cannot be written fails at once.
+  if (!to.prefix.empty()) make_parent(to.prefix);
+  if (!o.candidates_dir.empty())
+    make_parent((std::filesystem::path(o.candidates_dir) / "candidate").string());
   const proxseg::Frame frame = read_input(o);
   say() << "proxseg: " << frame.valid_count() << " valid points (" << frame.width << "x"
         << frame.height << ")\n";

@@ -225,6 +225,14 @@ def run_batch(command: str, sources: Sequence[str], out_dir: str, *, db: Optiona
         if start["redone"]:
             sys.stderr.write(f"proxseg.dask: note: {out_dir} holds {_frames(start['redone'])} an "
                              "earlier run finished; doing them again (--resume skips them)\n")
+        if start["changed"]:
+            sys.stderr.write(f"proxseg.dask: note: {_frames(start['changed'])} whose input "
+                             "changed (size or time) since an earlier run finished them; doing "
+                             "them again\n")
+        if start["unproven"]:
+            sys.stderr.write(f"proxseg.dask: note: {_frames(start['unproven'])} logged without "
+                             "their inputs' size and time or the settings' fingerprint (an older "
+                             "proxseg's log); doing them again\n")
         sys.stderr.write(f"proxseg.dask: {_frames(start['frames'])}"
                          + (f", {start['frames'] - len(todo)} done before" if resume else "")
                          + "\n")

@@ -97,6 +97,8 @@ void bind_batch_frames(py::module_& m) {
         out["todo"] = to_list(b.todo);
         out["damaged"] = b.damaged;
         out["redone"] = b.redone;
+        out["changed"] = b.changed;
+        out["unproven"] = b.unproven;
         out["log"] = py::cast(std::move(b.log));
         return out;
       },

@@ -102,3 +102,30 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
 }
 
 }  // namespace proxseg
+
+namespace proxseg {
+
+void check_writable_folder(const std::string& dir) {
+  const fs::path folder = dir.empty() ? fs::path(".") : fs::path(dir);
+  static std::atomic<unsigned> counter{0};
+  // A file made and removed at once: the one test that a write will work, whatever forbids it
+  // (permissions, a read-only mount, a folder of /proc or /sys, an ACL, a full inode table).
+  for (int attempt = 0;; ++attempt) {
+    const fs::path probe =
+        folder / (".proxseg-probe." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd >= 0) {
+      ::close(fd);
+      ::unlink(probe.c_str());
+      return;
+    }
+    // A probe of the same name (left by a killed process of the same id): another name.
+    if ((errno == EEXIST || errno == EINTR) && attempt < 100) continue;
+    const int error = errno;
+    throw FileError(
+        folder.string() + ": cannot write in the output folder (" + std::strerror(error) + ")",
+        error);
+  }
+}
+
+}  // namespace proxseg

@@ -302,12 +302,31 @@ TEST(Robustness, OutputDirectoryNotWritable) {
   r = run("segment --batch " + kData + "/mosd/learn -o " + o.string());
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_NE(r.err.find("a-file"), std::string::npos) << r.err;
-  if (::geteuid() != 0) {  // root writes through permissions; the case above covers it
+  // A folder that exists but takes no new file, whoever asks (root too): /proc/self. The input
+  // is broken and the database missing: an error naming the folder, not them, shows that the
+  // folder was checked before anything was read.
+  const std::string broken = pcd_file("broken-input.pcd", "not a PCD\n");
+  r = run("segment " + broken + " -o /proc/self/out");
+  expect_input_error(r, "/proc/self", "/proc/self/out");
+  EXPECT_EQ(r.err.find("broken-input"), std::string::npos) << r.err;
+  r = run("recognize " + broken + " --db " + (kTmp / "no-database").string() +
+          " -o /proc/self/out");
+  expect_input_error(r, "/proc/self", "/proc/self/out");
+  EXPECT_EQ(r.err.find("no-database"), std::string::npos) << r.err;
+  fs::remove_all(kTmp / "broken-batch");
+  fs::create_directories(kTmp / "broken-batch");
+  fs::copy_file(broken, kTmp / "broken-batch" / "f.pcd");
+  r = run("segment --batch " + (kTmp / "broken-batch").string() + " -o /proc/self");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("/proc/self"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("f.pcd"), std::string::npos) << r.err;
+  if (::geteuid() != 0) {  // root writes through permissions; /proc/self above covers it
     const fs::path ro = kTmp / "read-only";
     fs::create_directories(ro);
     fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
-    r = run("segment " + learn0() + " -o " + (ro / "out").string());
+    r = run("segment " + broken + " -o " + (ro / "out").string());
     expect_input_error(r, "read-only", ro / "out");
+    EXPECT_EQ(r.err.find("broken-input"), std::string::npos) << r.err;
     EXPECT_TRUE(fs::is_empty(ro));
     fs::permissions(ro, fs::perms::owner_all);
   }

@@ -295,8 +295,11 @@ TEST(Batch, SummaryLogKeepsWholeLinesLocksAndChecksTheSettings) {
   EXPECT_EQ(s["frames_total"], 2);
   EXPECT_EQ(s["frames_done"], 1);
   EXPECT_EQ(s["frames_failed"], 1);
+  // Each row carries the fingerprint of the settings it was made with.
+  const std::string fingerprint = proxseg::settings_fingerprint(header);
   EXPECT_EQ(s["failed"],
-            nlohmann::json::array({nlohmann::json{{"frame", "two"}, {"error", "x.pcd: broken"}}}));
+            nlohmann::json::array({nlohmann::json{
+                {"frame", "two"}, {"error", "x.pcd: broken"}, {"fingerprint", fingerprint}}}));
   EXPECT_EQ(s["bytes_written"], 5);
   EXPECT_FALSE(s["interrupted"].get<bool>());
   // The failed frame done on a later resume: each frame's last row counts.
@@ -313,7 +316,9 @@ TEST(Batch, SummaryLogKeepsWholeLinesLocksAndChecksTheSettings) {
   EXPECT_EQ(again["peak_rss_mib"], 100);
   const nlohmann::json rows = proxseg::frame_rows(out.string());
   ASSERT_EQ(rows.size(), 2u);
-  EXPECT_EQ(rows[1], nlohmann::json({{"frame", "two"}, {"outputs", {{"two.json", 3}}}}));
+  EXPECT_EQ(rows[1],
+            nlohmann::json(
+                {{"frame", "two"}, {"outputs", {{"two.json", 3}}}, {"fingerprint", fingerprint}}));
   // Other parameters may not resume into this folder; a new run may.
   nlohmann::json other = header;
   other["parameters"]["a"] = 2;
@@ -321,9 +326,29 @@ TEST(Batch, SummaryLogKeepsWholeLinesLocksAndChecksTheSettings) {
     proxseg::SummaryLog(out.string(), "summary", other, true);
     ADD_FAILURE() << "resumed with other parameters";
   } catch (const proxseg::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("parameters/a (1 and 2)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("parameters/a (1 earlier, 2 now)"), std::string::npos)
+        << e.what();
   }
   EXPECT_NO_THROW(proxseg::SummaryLog(out.string(), "summary", other, false));
+}
+
+TEST(Batch, SettingsFingerprintIsAStableHashOfTheSettingsAlone) {
+  const nlohmann::json header = {{"command", "segment"},
+                                 {"outputs", "json"},
+                                 {"parameters", {{"b", 0.5}, {"a", 1}}},
+                                 {"shard", "1/2"},
+                                 {"frames", 3}};
+  // FNV-1a (64 bits) of {"command":"segment","database":null,"outputs":"json",
+  // "parameters":{"a":1,"b":0.5}}: the same on every machine, run and build.
+  EXPECT_EQ(proxseg::settings_fingerprint(header), "ea2325509955fb52");
+  // What is not a setting (the shard, counts, the build) leaves it; a parameter changes it.
+  nlohmann::json other = header;
+  other["shard"] = "2/2";
+  other["frames"] = 5;
+  other["proxseg"] = {{"version", "x"}};
+  EXPECT_EQ(proxseg::settings_fingerprint(other), proxseg::settings_fingerprint(header));
+  other["parameters"]["a"] = 2;
+  EXPECT_NE(proxseg::settings_fingerprint(other), proxseg::settings_fingerprint(header));
 }
 
 TEST(Batch, ThreeShardsGiveTheOutputsOfOneRun) {

@@ -26,15 +26,18 @@ struct SegmentJob {
 };
 
 // One frame of a batch, start to end: reads it, segments it, writes its outputs (all or none).
-// Returns its summary row: {"frame": id, "inputs": [files], "outputs": {file relative to
-// out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. A failure (a frame that cannot be read
-// or written, memory exhausted, ...) does not propagate: the row then has "error" (the message,
-// which names the file) instead of outputs, and nothing of the frame is written.
+// Returns its summary row: {"frame": id, "inputs": [files], "input_sizes": [bytes],
+// "input_mtimes_ns": [times] (the inputs' as the frame starts: --resume compares them),
+// "outputs": {file relative to out_dir: bytes}, "k", "candidates", "ms", "rss_mib"}. A failure (a
+// frame that cannot be read or written, memory exhausted, ...) does not propagate: the row then has
+// "error" (the message, which names the file) instead of outputs, and nothing of the frame is
+// written.
 nlohmann::json segment_frame(const FrameSource& frame, const SegmentJob& job);
 // The pieces a frame's job is made of (segment_frame, recognize_frame in
 // proxseg/recognition/recognize_frame.hpp): OUT_DIR/<output_stem(id)> with its folder made
 // (FileError when it cannot be); {file relative to out_dir: bytes} of the files just written; the
-// row around the work: "frame", "inputs", then what work adds or "error" (an exception's message,
+// row around the work: "frame", "inputs" (with "input_sizes" and "input_mtimes_ns", taken before
+// the work), then what work adds or "error" (an exception's message,
 // naming the frame's first input; "out of memory" for std::bad_alloc), "ms" and "rss_mib".
 std::string output_prefix(const std::string& out_dir, const std::string& id);
 // The name of a frame's outputs in out_dir: its id, except where the outputs would take the
@@ -64,7 +67,8 @@ std::string summary_name(int shard_index = 1, int shard_count = 1);
 // The streamed summary of a run, OUT/<name>.jsonl: a line {"header": {...}} when a run starts,
 // then one line per frame (segment_frame's row) as soon as it is done, then {"end": {...}} when
 // the run ends. Each line is written by one write() to a file opened for appending, so that a
-// killed run loses no finished frame. The file is locked (flock) while open: a second process
+// killed run loses no finished frame. The header and every frame's row carry the settings'
+// fingerprint (settings_fingerprint). The file is locked (flock) while open: a second process
 // given the same output folder and shard gets an InputError instead of interleaving lines.
 class SummaryLog {
  public:
@@ -78,6 +82,7 @@ class SummaryLog {
   ~SummaryLog();
   SummaryLog(const SummaryLog&) = delete;
   SummaryLog& operator=(const SummaryLog&) = delete;
+  // Writes a line; a frame's row (one with "frame") gets the settings' "fingerprint".
   void append(const nlohmann::json& row);
   // Writes {"end": {"interrupted", "peak_rss_mib"}} and closes the file.
   void close(bool interrupted, double peak_rss_mib);
@@ -85,16 +90,36 @@ class SummaryLog {
 
  private:
   std::string path_;
+  std::string fingerprint_;  // settings_fingerprint(header), written in each frame's row
   int fd_ = -1;
 };
 
-// The frames of earlier runs into out_dir that need no more work: those whose last row, in any
+// The frames of earlier runs into out_dir whose outputs are whole: those whose last row, in any
 // OUT/summary*.jsonl, has no error and whose output files all exist with the sizes it recorded.
 // A damaged line (not JSON, or not a header, row or end as batches write them) is skipped: the
 // frame it may have named is not finished (done again), and a message per line ("LOG:LINE:
 // damaged line (why); skipped, frame ID is done again") goes to *damaged when given.
 std::set<std::string> finished_frames(const std::string& out_dir,
                                       std::vector<std::string>* damaged = nullptr);
+
+// What --resume may skip of the given frames: those finished as above whose row was made with
+// the settings of this fingerprint (settings_fingerprint) from inputs of the sizes and times
+// (ns) the files have now. A frame finished otherwise is done again and counted: `changed` when
+// an input's size or time differs, `unproven` when its row has no fingerprint or input stamps
+// (an older proxseg's log) or another fingerprint.
+struct FinishedFrames {
+  std::set<std::string> done;
+  std::size_t changed = 0, unproven = 0;
+};
+FinishedFrames finished_frames(const std::string& out_dir, const std::vector<FrameSource>& frames,
+                               const std::string& fingerprint,
+                               std::vector<std::string>* damaged = nullptr);
+
+// The fingerprint of a batch's settings, the "command", "outputs", "parameters" and "database" of
+// its header: 16 hex digits of FNV-1a (64 bits) over their canonical JSON text (keys sorted, no
+// spaces, numbers as their shortest round trip), the same on every machine and run. SummaryLog
+// writes it in its header and in every frame's row.
+std::string settings_fingerprint(const nlohmann::json& header);
 
 // Removes what a killed run left of the given frames' outputs in out_dir: the hidden temporary
 // files of write_files_atomic (".NAME.tmp.PID.N" beside each output). Only these frames': another

@@ -28,14 +28,21 @@ struct BatchStart {
   std::vector<FrameSource> todo;     // those left to do: all of them, or (resume) the unfinished
   std::vector<std::string> damaged;  // resume: earlier logs' damaged lines (finished_frames)
   std::size_t redone = 0;            // no resume: frames an earlier run finished, done again
-  std::unique_ptr<SummaryLog> log;   // OUT/<summary_name(shard, shards)>.jsonl, header written
+  // resume: finished frames done again, as an input's size or time changed since (changed) or
+  // as their rows cannot tell the settings and inputs they were made from (unproven)
+  std::size_t changed = 0, unproven = 0;
+  std::unique_ptr<SummaryLog> log;  // OUT/<summary_name(shard, shards)>.jsonl, header written
 };
 
 // Finds the frames (discover_frames), checks the output folder against them
 // (check_output_folder: OutputFolderError), takes this shard's, completes `header` (sources,
 // shard, frames, frames_all, proxseg, runner; the caller gives command, outputs, parameters and
-// database), reads what earlier runs finished, opens the summary log (SummaryLog: locked; on
-// resume checked against the earlier header) and, on resume, removes what a killed run left of
+// database), makes the output folder and checks that files can be made in it
+// (check_writable_folder), all before any frame is read. Then, under the folder's lock
+// (OUT/.proxseg-batch.lock, held until this run's header is written), refuses settings other
+// than those of the folder's logs (InputError naming the first difference: one folder, one set
+// of settings; shards of one set share it), reads what earlier runs finished (finished_frames),
+// opens the summary log (SummaryLog: locked) and, on resume, removes what a killed run left of
 // the frames to do (remove_stale_temporaries).
 BatchStart start_batch(const BatchPlan& plan, const std::string& out_dir, nlohmann::json header);
 

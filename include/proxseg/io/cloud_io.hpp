@@ -110,5 +110,10 @@ void write_file_atomic(const std::string& path, const std::string& bytes);
 // temporary files and whatever new file was already in place, so the set is never left half new;
 // files of an earlier run that were not yet replaced stay as they were.
 void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
+// Checks that files can be made in the folder dir ("" = the current folder) by making one (a
+// hidden probe, O_EXCL) and removing it: FileError naming the folder and the system's reason
+// otherwise (no permission, a read-only mount). Called before any input is read, so that an
+// output that cannot be written fails at once rather than after the work.
+void check_writable_folder(const std::string& dir);
 
 }  // namespace proxseg

@@ -6,10 +6,12 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -18,106 +20,16 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "io/batch/batch_settings.hpp"
+#include "io/batch/log_lines.hpp"
 #include "util/shown_names.hpp"
 #include "util/stopwatch.hpp"
 
 namespace proxseg {
 namespace fs = std::filesystem;
+using detail::for_each_log_line;
+using detail::skipped;
 namespace {
-
-const char* kSameKeys[] = {"command", "outputs", "parameters", "database"};
-
-// The first of kSameKeys on which two headers differ, with both values; "" when none.
-std::string header_difference(const nlohmann::json& a, const nlohmann::json& b) {
-  for (const char* key : kSameKeys) {
-    const nlohmann::json va = a.value(key, nlohmann::json()), vb = b.value(key, nlohmann::json());
-    if (va == vb) continue;
-    if (va.is_object() && vb.is_object()) {
-      const nlohmann::json patch = nlohmann::json::diff(va, vb);
-      const auto& op = patch.at(0);
-      return std::string(key) + op.value("path", "") + " (" +
-             va.flatten().value(op.value("path", ""), nlohmann::json("absent")).dump() + " and " +
-             op.value("value", nlohmann::json("absent")).dump() + ")";
-    }
-    return std::string(key) + " (" + va.dump() + " and " + vb.dump() + ")";
-  }
-  return "";
-}
-
-// What is wrong with a parsed line of a summary log, "" when nothing: a header or an end is an
-// object; a frame's row names its frame with a string, its outputs as {file: bytes} and its
-// error as a string.
-std::string line_problem(const nlohmann::json& j) {
-  if (!j.is_object()) return "not a JSON object";
-  if (j.contains("header")) {
-    const nlohmann::json& h = j["header"];
-    if (!h.is_object()) return "\"header\" is not an object";
-    for (const char* count : {"frames", "frames_all"})
-      if (h.contains(count) && !h[count].is_number_unsigned())
-        return "the header's \"" + std::string(count) + "\" is not a count";
-    if (h.contains("shard") && !h["shard"].is_null() && !h["shard"].is_string())
-      return "the header's \"shard\" is not a string";
-    return "";
-  }
-  if (j.contains("end")) return j["end"].is_object() ? "" : "\"end\" is not an object";
-  if (!j.contains("frame")) return "neither a header, a frame's row nor an end";
-  if (!j["frame"].is_string()) return "\"frame\" is not a string";
-  if (j.contains("error") && !j["error"].is_string()) return "\"error\" is not a string";
-  if (j.contains("outputs")) {
-    if (!j["outputs"].is_object()) return "\"outputs\" is not an object";
-    for (const auto& [file, bytes] : j["outputs"].items())
-      if (!bytes.is_number_unsigned()) return "\"outputs\" has a size that is no byte count";
-  }
-  return "";
-}
-
-// The frame a damaged line may have named: the JSON string after its first "frame": ("" when
-// there is none to read). Scanned by hand: std::regex recurses per character, and a damaged line
-// may be megabytes long.
-std::string frame_named_in(const std::string& line) {
-  const std::size_t key = line.find("\"frame\"");
-  if (key == std::string::npos) return "";
-  std::size_t i = line.find_first_not_of(" \t", key + 7);
-  if (i == std::string::npos || line[i] != ':') return "";
-  i = line.find_first_not_of(" \t", i + 1);
-  if (i == std::string::npos || line[i] != '"') return "";
-  std::size_t end = i + 1;
-  while (end < line.size() && line[end] != '"') end += line[end] == '\\' ? 2 : 1;
-  if (end >= line.size()) return "";
-  const nlohmann::json id = nlohmann::json::parse(line.substr(i, end - i + 1), nullptr, false);
-  return id.is_string() ? id.get<std::string>() : "";
-}
-
-// Visits the whole lines of a summary log, parsed and checked, in order: visit(line) for each
-// good one, damaged(message, frame) for one that is not (its number, what is wrong, and the
-// frame it may have named, "" when none can be read); reading goes on after it. Only a last line
-// without its newline (the half-written row of a killed run) is not whole: it is left out
-// without a word. One line at a time: a log of a million frames is never all in memory.
-// Returns where the whole lines end.
-template <class Visit, class Damaged>
-std::size_t for_each_line(const std::string& path, Visit&& visit, Damaged&& damaged) {
-  std::ifstream in(path, std::ios::binary);
-  std::size_t end = 0, number = 0;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (in.eof()) break;  // no newline after it: not whole
-    ++number;
-    end += line.size() + 1;
-    nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    const std::string problem = j.is_discarded() ? "not JSON" : line_problem(j);
-    if (problem.empty())
-      visit(j);
-    else
-      damaged(path + ":" + std::to_string(number) + ": damaged line (" + problem + ")",
-              frame_named_in(line));
-  }
-  return end;
-}
-
-// A damaged line as a warning: what is done about it.
-std::string skipped(const std::string& message, const std::string& frame) {
-  return message + "; skipped" + (frame.empty() ? "" : ", frame " + frame + " is done again");
-}
 
 void write_all(int fd, const std::string& bytes, const std::string& path) {
   std::size_t done = 0;
@@ -127,6 +39,19 @@ void write_all(int fd, const std::string& bytes, const std::string& path) {
     if (n <= 0) throw FileError(path + ": cannot write (" + std::strerror(errno) + ")");
     done += static_cast<std::size_t>(n);
   }
+}
+
+// The inputs' sizes and modification times (ns) as a frame's row records them: {"input_sizes",
+// "input_mtimes_ns"}, or null when an input cannot be examined (its frame then fails).
+nlohmann::json input_stamps(const std::vector<std::string>& files) {
+  nlohmann::json sizes = nlohmann::json::array(), times = nlohmann::json::array();
+  for (const std::string& file : files) {
+    struct stat st;
+    if (::stat(file.c_str(), &st) != 0) return nullptr;
+    sizes.push_back(static_cast<std::uint64_t>(st.st_size));
+    times.push_back(static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec);
+  }
+  return {{"input_sizes", sizes}, {"input_mtimes_ns", times}};
 }
 
 }  // namespace
@@ -159,7 +84,10 @@ nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::str
 nlohmann::json frame_row(const FrameSource& frame,
                          const std::function<void(nlohmann::json& row)>& work) {
   const detail::Stopwatch watch;
-  const nlohmann::json start = {{"frame", frame.id}, {"inputs", frame.files()}};
+  nlohmann::json start = {{"frame", frame.id}, {"inputs", frame.files()}};
+  // Taken before the frame is read: an input replaced during the work is seen as changed later.
+  if (const nlohmann::json stamps = input_stamps(frame.files()); !stamps.is_null())
+    start.update(stamps);
   nlohmann::json row = start;
   // A frame that fails leaves a row with its error, whatever failed: the batch goes on.
   const auto failed = [&](const std::string& error) {
@@ -240,7 +168,8 @@ std::string summary_name(int shard_index, int shard_count) {
 
 SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
                        const nlohmann::json& header, bool resume)
-    : path_((fs::path(out_dir) / (name + ".jsonl")).string()) {
+    : path_((fs::path(out_dir) / (name + ".jsonl")).string()),
+      fingerprint_(settings_fingerprint(header)) {
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw FileError(out_dir + ": cannot create the output folder (" + ec.message() + ")");
@@ -255,21 +184,25 @@ SummaryLog::SummaryLog(const std::string& out_dir, const std::string& name,
   try {
     nlohmann::json earlier;  // the last run's header
     // Damaged lines stay (finished_frames reports them); a half-written last one goes.
-    const std::size_t whole = resume ? for_each_line(
+    const std::size_t whole = resume ? for_each_log_line(
                                            path_,
-                                           [&](nlohmann::json& line) {
+                                           [&](nlohmann::json& line, std::size_t) {
                                              if (line.contains("header"))
                                                earlier = std::move(line["header"]);
                                            },
                                            [](const std::string&, const std::string&) {})
                                      : 0;
     if (!earlier.is_null())
-      if (const std::string diff = header_difference(earlier, header); !diff.empty())
+      if (const std::string diff = detail::settings_difference(earlier, header, "earlier", "now");
+          !diff.empty())
         throw InputError(path_ + ": the earlier run differs in " + diff +
-                         " (expected the same settings to resume; use another output folder)");
+                         " (expected the same settings to resume: give another -o folder, or "
+                         "the same settings)");
     if (::ftruncate(fd_, static_cast<off_t>(whole)) != 0)
       throw FileError(path_ + ": cannot write (" + std::strerror(errno) + ")");
-    write_all(fd_, dump_shown(nlohmann::json{{"header", header}}) + "\n", path_);
+    nlohmann::json stamped = header;  // the settings' fingerprint, as each row carries it
+    stamped["fingerprint"] = fingerprint_;
+    write_all(fd_, dump_shown(nlohmann::json{{"header", stamped}}) + "\n", path_);
   } catch (...) {
     ::close(fd_);
     throw;
@@ -281,7 +214,13 @@ SummaryLog::~SummaryLog() {
 }
 
 void SummaryLog::append(const nlohmann::json& row) {
-  write_all(fd_, dump_shown(row) + "\n", path_);
+  if (!row.is_object() || !row.contains("frame"))
+    return write_all(fd_, dump_shown(row) + "\n", path_);
+  // Each frame's row names the settings it was made with: `proxseg summary` refuses a log that
+  // mixes two, --resume a row made with others.
+  nlohmann::json stamped = row;
+  stamped["fingerprint"] = fingerprint_;
+  write_all(fd_, dump_shown(stamped) + "\n", path_);
 }
 
 void SummaryLog::close(bool interrupted, double peak_rss_mib) {
@@ -306,37 +245,81 @@ std::vector<std::string> summary_logs(const std::string& out_dir) {
   return logs;
 }
 
-std::set<std::string> finished_frames(const std::string& out_dir,
-                                      std::vector<std::string>* damaged) {
-  // Per frame its last row's files and sizes (none for an error): small, however long the log.
-  std::map<std::string, std::vector<std::pair<std::string, std::uintmax_t>>> last;
+namespace {
+
+// What resuming needs of a frame's last row: its files and sizes (none for an error), and the
+// settings and inputs it was made from ("" and null when the row does not say).
+struct LastRow {
+  std::vector<std::pair<std::string, std::uintmax_t>> files;
+  std::string fingerprint;
+  nlohmann::json stamps;  // {"input_sizes", "input_mtimes_ns"}
+};
+
+// Each frame's last row in out_dir's logs (small, however long the logs); a frame named by a
+// damaged line has an empty one (the line may have been its last row: done again).
+std::map<std::string, LastRow> last_rows(const std::string& out_dir,
+                                         std::vector<std::string>* damaged) {
+  std::map<std::string, LastRow> last;
   for (const std::string& log : summary_logs(out_dir))
-    for_each_line(
+    for_each_log_line(
         log,
-        [&](const nlohmann::json& line) {
+        [&](const nlohmann::json& line, std::size_t) {
           if (!line.contains("frame")) return;
           // Names not UTF-8 were written shown (\xFF): their bytes, to match the frames'.
-          auto& files = last[name_from_shown(line["frame"].get<std::string>())];
-          files.clear();
+          LastRow& row = last[name_from_shown(line["frame"].get<std::string>())];
+          row = LastRow();
           if (line.contains("error") || !line.contains("outputs")) return;
           for (const auto& [file, bytes] : line["outputs"].items())
-            files.emplace_back(name_from_shown(file), bytes.get<std::uintmax_t>());
+            row.files.emplace_back(name_from_shown(file), bytes.get<std::uintmax_t>());
+          row.fingerprint = line.value("fingerprint", "");
+          if (line.contains("input_sizes") && line.contains("input_mtimes_ns"))
+            row.stamps = {{"input_sizes", line["input_sizes"]},
+                          {"input_mtimes_ns", line["input_mtimes_ns"]}};
         },
         [&](const std::string& message, const std::string& frame) {
-          if (!frame.empty())
-            last[name_from_shown(frame)].clear();  // may have been its last row: done again
+          if (!frame.empty()) last[name_from_shown(frame)] = LastRow();
           if (damaged) damaged->push_back(skipped(message, frame));
         });
-  std::set<std::string> done;
-  for (const auto& [id, files] : last) {
-    bool whole = !files.empty();
-    for (const auto& [file, bytes] : files) {
-      std::error_code ec;
-      whole = whole && fs::file_size(fs::path(out_dir) / file, ec) == bytes && !ec;
-    }
-    if (whole) done.insert(id);
+  return last;
+}
+
+// Whether a row's files all exist with the sizes it recorded (none: an error, not finished).
+bool outputs_whole(const std::string& out_dir, const LastRow& row) {
+  bool whole = !row.files.empty();
+  for (const auto& [file, bytes] : row.files) {
+    std::error_code ec;
+    whole = whole && fs::file_size(fs::path(out_dir) / file, ec) == bytes && !ec;
   }
+  return whole;
+}
+
+}  // namespace
+
+std::set<std::string> finished_frames(const std::string& out_dir,
+                                      std::vector<std::string>* damaged) {
+  std::set<std::string> done;
+  for (const auto& [id, row] : last_rows(out_dir, damaged))
+    if (outputs_whole(out_dir, row)) done.insert(id);
   return done;
+}
+
+FinishedFrames finished_frames(const std::string& out_dir, const std::vector<FrameSource>& frames,
+                               const std::string& fingerprint, std::vector<std::string>* damaged) {
+  const std::map<std::string, LastRow> last = last_rows(out_dir, damaged);
+  FinishedFrames finished;
+  for (const FrameSource& frame : frames) {
+    const auto it = last.find(frame.id);
+    if (it == last.end() || !outputs_whole(out_dir, it->second)) continue;
+    const LastRow& row = it->second;
+    // A row that cannot tell its settings or inputs proves nothing: done again (docs/batch.md).
+    if (row.fingerprint != fingerprint || row.stamps.is_null())
+      ++finished.unproven;
+    else if (row.stamps != input_stamps(frame.files()))
+      ++finished.changed;
+    else
+      finished.done.insert(frame.id);
+  }
+  return finished;
 }
 
 std::size_t remove_stale_temporaries(const std::string& out_dir,
@@ -388,6 +371,7 @@ std::uintmax_t bytes_of(const nlohmann::json& row) {
 // What summarize gathers from the logs, one after another.
 struct Merged {
   nlohmann::json first;  // the first header: the settings every log must share
+  std::string first_where, fingerprint, fingerprint_where;  // LOG:LINE they were first seen at
   std::unordered_map<std::string, FrameState> states;
   std::size_t total = 0, batch_total = 0;
   std::set<std::string> shard_names;
@@ -398,16 +382,43 @@ struct Merged {
                  damaged_lines = nlohmann::json::array();
 };
 
-// Adds one log (a shard's summary*.jsonl) to m; first_log names the log m's settings came from.
-void merge_log(const std::string& log, const std::string& first_log, Merged& m) {
+// The batch's settings as a log's header or row gives them, where they are first seen (LOG:LINE);
+// every other line of every log must agree: one set of settings per batch folder.
+void check_settings(Merged& m, const std::string& where, const nlohmann::json* header,
+                    const std::string& fingerprint) {
+  const std::string expected =
+      " (expected one set of settings per batch folder: the frames of "
+      "two settings are not one batch)";
+  if (header && m.first.is_null()) m.first = *header;
+  if (header && m.first_where.empty()) m.first_where = where;
+  if (header)
+    if (const std::string d =
+            detail::settings_difference(m.first, *header, "at " + m.first_where, "here");
+        !d.empty())
+      throw InputError(where + ": a run with other settings than " + m.first_where + "'s: " + d +
+                       expected);
+  if (m.fingerprint.empty()) {
+    m.fingerprint = fingerprint;
+    m.fingerprint_where = where;
+  } else if (fingerprint != m.fingerprint) {
+    throw InputError(where + ": " + (header ? "a run" : "a frame") +
+                     " made with settings of fingerprint " + fingerprint + ", not " +
+                     m.fingerprint + " as at " + m.fingerprint_where + expected);
+  }
+}
+
+// Adds one log (a shard's summary*.jsonl) to m.
+void merge_log(const std::string& log, Merged& m) {
   nlohmann::json header;
   bool ended = false;
-  for_each_line(
+  for_each_log_line(
       log,
-      [&](nlohmann::json& line) {
+      [&](nlohmann::json& line, std::size_t number) {
         if (line.contains("header")) {
           header = line["header"];
           ended = false;
+          check_settings(m, log + ":" + std::to_string(number), &header,
+                         settings_fingerprint(header));
         } else if (line.contains("end")) {
           ended = true;
           const nlohmann::json& end = line["end"];
@@ -416,6 +427,9 @@ void merge_log(const std::string& log, const std::string& first_log, Merged& m) 
           if (end.contains("peak_rss_mib") && end["peak_rss_mib"].is_number())
             m.peak = std::max(m.peak, end["peak_rss_mib"].get<double>());
         } else if (line.contains("frame")) {
+          if (line.contains("fingerprint"))  // rows of an older proxseg have none
+            check_settings(m, log + ":" + std::to_string(number), nullptr,
+                           line["fingerprint"].get<std::string>());
           FrameState& state = m.states[line["frame"].get<std::string>()];
           state.bytes = bytes_of(line);
           state.error_row = line.contains("error") ? std::move(line) : nlohmann::json();
@@ -427,10 +441,6 @@ void merge_log(const std::string& log, const std::string& first_log, Merged& m) 
         m.damaged_lines.push_back(skipped(message, frame));
       });
   if (header.is_null()) throw InputError(log + ": no header line (expected a batch summary)");
-  if (m.first.is_null()) m.first = header;
-  if (const std::string diff = header_difference(m.first, header); !diff.empty())
-    throw InputError(log + ": its run differs from " + first_log + "'s in " + diff +
-                     " (expected shards of one batch)");
   m.interrupted = m.interrupted || !ended;  // killed, or still running
   m.total += header.value("frames", std::size_t{0});
   m.batch_total = std::max(m.batch_total, header.value("frames_all", std::size_t{0}));
@@ -448,7 +458,7 @@ void merge_log(const std::string& log, const std::string& first_log, Merged& m) 
 
 nlohmann::json summarize(const std::vector<std::string>& logs, bool whole_batch) {
   Merged m;
-  for (const std::string& log : logs) merge_log(log, logs.front(), m);
+  for (const std::string& log : logs) merge_log(log, m);
   if (m.first.is_null()) throw InputError("no batch summaries (summary*.jsonl) to merge");
   nlohmann::json missing = nlohmann::json::array();
   if (whole_batch) {
@@ -498,9 +508,9 @@ nlohmann::json frame_rows(const std::string& out_dir) {
   std::map<std::string, nlohmann::json, bool (*)(const std::string&, const std::string&)> rows(
       natural_less);
   for (const std::string& log : summary_logs(out_dir))
-    for_each_line(
+    for_each_log_line(
         log,
-        [&](nlohmann::json& line) {
+        [&](nlohmann::json& line, std::size_t) {
           if (!line.contains("frame")) return;
           const std::string id = line["frame"];  // before the move below (C++17 order)
           rows[id] = std::move(line);
