@@ -226,9 +226,9 @@ int run_batch(const SegmentOptions& o, const std::string& out_dir, bool json, nl
   const nlohmann::json summary = proxseg::summarize({b.log->path()}, shards == 1);
   const std::string summary_json =
       (fs::path(out_dir) / (proxseg::summary_name(shard, shards) + ".json")).string();
-  proxseg::write_file_atomic(summary_json, summary.dump(2) + "\n");
+  proxseg::write_file_atomic(summary_json, proxseg::json_text(summary, 2) + "\n");
   if (json)
-    std::cout << summary.dump(2) << "\n";
+    std::cout << proxseg::json_text(summary, 2) << "\n";
   else
     std::cout << summary_json << ": " << summary["frames_done"].get<std::size_t>() << " of "
               << counted(b.frames.size(), "frame") << " done"
@@ -255,9 +255,9 @@ int run_summary(const SummaryOptions& o) {
   for (const auto& d : summary["damaged_lines"])
     std::cerr << "proxseg: warning: " << d.get<std::string>() << "\n";
   const std::string path = (fs::path(o.output) / "summary.json").string();
-  proxseg::write_file_atomic(path, summary.dump(2) + "\n");
+  proxseg::write_file_atomic(path, proxseg::json_text(summary, 2) + "\n");
   if (o.json)
-    std::cout << summary.dump(2) << "\n";
+    std::cout << proxseg::json_text(summary, 2) << "\n";
   else
     std::cout << path << ": " << counted(summary["shards"].size(), "log") << ", "
               << summary["frames_done"].get<std::size_t>() << " of "

@@ -48,9 +48,10 @@ void describe_app(CLI::App& app) {
   app.formatter(std::make_shared<HelpFormatter>());  // the commands added later take it too
   app.description("proxseg: unsupervised RGB-D segmentation and object recognition");
   // The docs/*.md that the help texts name, where an installed proxseg has them.
-  app.footer("Documentation (the docs/*.md named above, the API references): "
-             "/usr/share/doc/proxseg-doc (Debian package proxseg-doc), or share/doc/proxseg-doc "
-             "under the install prefix; man proxseg.");
+  app.footer(
+      "Documentation (the docs/*.md named above, the API references): "
+      "/usr/share/doc/proxseg-doc (Debian package proxseg-doc), or share/doc/proxseg-doc "
+      "under the install prefix; man proxseg.");
   app.require_subcommand(1);
   // Also after the command (`proxseg segment -q ...`): the commands pass what they do not know
   // to the program's options.

@@ -144,11 +144,12 @@ int run_eval_batch(const EvalOptions& o) {
     const auto out = std::filesystem::path(o.output);
     proxseg::write_file_atomic((out / "scenes.csv").string(), proxseg::scenes_csv(scenes));
     proxseg::write_file_atomic((out / "summary.md").string(), markdown);
-    proxseg::write_file_atomic((out / "summary.json").string(), summary.dump(2) + "\n");
+    proxseg::write_file_atomic((out / "summary.json").string(),
+                               proxseg::json_text(summary, 2) + "\n");
     say() << "proxseg: wrote " << (out / "scenes.csv").string() << ", summary.md, summary.json\n";
   }
   if (o.json)
-    std::cout << summary.dump(2) << "\n";
+    std::cout << proxseg::json_text(summary, 2) << "\n";
   else
     std::cout << markdown;
   return interrupted() ? kInterruptedExit : 0;
@@ -175,12 +176,11 @@ int run_eval(const EvalOptions& o) {
   const auto predicted = read_prediction(o.predicted, o.field, truth.size());
   proxseg::SceneScores s = proxseg::score_scene(truth, predicted);
   if (o.json) {
-    std::cout << nlohmann::json{{"truth", o.truth},
-                                {"predicted", o.predicted},
-                                {"objects", proxseg::scores_json(s.objects)},
-                                {"parts", proxseg::scores_json(s.parts)}}
-                     .dump(2)
-              << "\n";
+    const nlohmann::json scores = {{"truth", o.truth},
+                                   {"predicted", o.predicted},
+                                   {"objects", proxseg::scores_json(s.objects)},
+                                   {"parts", proxseg::scores_json(s.parts)}};
+    std::cout << proxseg::json_text(scores, 2) << "\n";
   } else {
     print_scores(s);
   }

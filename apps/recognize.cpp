@@ -198,7 +198,7 @@ int run_recognize(const RecognizeOptions& o) {
     report = proxseg::write_recognition(to.prefix, frame, objects, db, std::move(report), !object,
                                         to.files);
   if (to.report_to_stdout)
-    std::cout << report.dump(2) << "\n";
+    std::cout << proxseg::json_text(report, 2) << "\n";
   else
     print(objects);
   return 0;

@@ -127,7 +127,7 @@ int run_segment(const SegmentCommand& o) {
     say() << "proxseg: " << files.size() << " candidate clouds in " << o.candidates_dir << "\n";
   }
   if (to.report_to_stdout)
-    std::cout << report.dump(2) << "\n";
+    std::cout << proxseg::json_text(report, 2) << "\n";
   else
     print_summary(o, to, result, report);
   return 0;

@@ -112,15 +112,15 @@ inline nlohmann::json shown_json(const nlohmann::json& j) {
 }
 
 // j's text (nlohmann::json::dump) with its names shown: never throws on bytes that are not UTF-8.
-// Dumped as it is first: the copy is made only for a text that holds such bytes or a backslash
-// (which JSON writes as \\; escape-like text is shown escaped).
+// Dumped as it is first: the copy is made only for a text that holds such bytes. A text already
+// shown stays as it is (valid UTF-8), so where names must read back (batch logs) they are put in
+// with shown_name, escape-like text and all.
 inline std::string dump_shown(const nlohmann::json& j, int indent = -1) {
   try {
-    std::string text = j.dump(indent);
-    if (text.find("\\\\") == std::string::npos) return text;
+    return j.dump(indent);
   } catch (const nlohmann::json::type_error&) {
+    return shown_json(j).dump(indent);
   }
-  return shown_json(j).dump(indent);
 }
 
 }  // namespace proxseg

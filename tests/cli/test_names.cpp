@@ -59,6 +59,24 @@ TEST(Names, BatchWithFramesNotUtf8FinishesAndResumes) {
   EXPECT_EQ(nlohmann::json::parse(slurp(out / "summary.json"))["frames_done"], 5);
 }
 
+// A report printed on stdout (`-o -`, `--json`) shows an input named with bytes that are not
+// UTF-8 as it shows it in files: JSON, never a type_error.
+TEST(Names, ReportsOnStdoutShowNamesNotUtf8) {
+  const fs::path in = kTmp / "stdout-in";
+  fs::remove_all(in);
+  fs::create_directories(in);
+  fs::copy_file(learn0(), in / "bad\xff.pcd");
+  const CliRun r = run("segment " + (in / "bad\xff.pcd").string() + " -o - --outputs json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::accept(r.out)) << r.out.substr(0, 300);
+  const CliRun e = run("eval-seg " + (in / "bad\xff.pcd").string() + " " +
+                       (in / "bad\xff.pcd").string() + " --json");
+  ASSERT_EQ(e.code, 0) << e.err;
+  ASSERT_TRUE(nlohmann::json::accept(e.out)) << e.out.substr(0, 300);
+  EXPECT_NE(nlohmann::json::parse(e.out)["truth"].get<std::string>().find("bad\\xFF"),
+            std::string::npos);
+}
+
 // The hostile frame names of issue 54 (point 2): a scheme, a fragment, a query, a percent sign
 // and an escape, space, quotes and markup, text that is not ASCII, bytes that are not UTF-8,
 // a frame in a subfolder (its id holds a '/'), and one whose files are renamed (summary-frame.*).

@@ -37,6 +37,11 @@ std::vector<std::string> output_files(const std::string& prefix, const OutputSet
 // What made a report: {"version": PROXSEG_VERSION, "commit": git_commit()}; every JSON report
 // of the CLI carries it under "proxseg", beside its parameters.
 nlohmann::json build_info();
+// j as JSON text (j.dump(indent)) with names shown: a string that is not UTF-8 (a file or frame
+// name's bytes) is written with its bad bytes as \xFF text, and one holding text that reads as
+// such an escape is escaped too (docs/robustness.md). What reports, summaries and --json print;
+// never throws on such bytes.
+std::string json_text(const nlohmann::json& j, int indent = -1);
 
 // The report written to PREFIX.json: proxseg's build_info, parameters, the input (with "colour":
 // whether it has colours), the feature blocks computed ("features": colour, texture, shape, and a

@@ -76,7 +76,7 @@ std::string output_prefix(const std::string& out_dir, const std::string& id) {
 nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::string>& files) {
   nlohmann::json sizes = nlohmann::json::object();
   for (const auto& f : files)
-    sizes[fs::path(f).lexically_relative(out_dir).generic_string()] = fs::file_size(f);
+    sizes[shown_name(fs::path(f).lexically_relative(out_dir).generic_string())] = fs::file_size(f);
   return sizes;
 }
 
@@ -84,7 +84,10 @@ nlohmann::json file_sizes(const std::string& out_dir, const std::vector<std::str
 nlohmann::json frame_row(const FrameSource& frame,
                          const std::function<void(nlohmann::json& row)>& work) {
   const detail::Stopwatch watch;
-  nlohmann::json start = {{"frame", frame.id}, {"inputs", frame.files()}};
+  // Names as shown (util/shown_names.hpp): the log reads them back to their bytes.
+  nlohmann::json inputs = nlohmann::json::array();
+  for (const std::string& file : frame.files()) inputs.push_back(shown_name(file));
+  nlohmann::json start = {{"frame", shown_name(frame.id)}, {"inputs", inputs}};
   // Taken before the frame is read: an input replaced during the work is seen as changed later.
   if (const nlohmann::json stamps = input_stamps(frame.files()); !stamps.is_null())
     start.update(stamps);

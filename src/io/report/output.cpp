@@ -128,6 +128,10 @@ std::string colourless_note(const Frame& frame, const FeatureParams& features) {
   return "";
 }
 
+std::string json_text(const nlohmann::json& j, int indent) {
+  return dump_shown(j, indent);
+}
+
 nlohmann::json build_info() {
   return {{"version", version()}, {"commit", git_commit()}};
 }
