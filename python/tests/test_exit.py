@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import proxseg
-from conftest import data
+from conftest import data, ycb_frame
 
 # Two daemon threads recognising a small frame (learn0, every 4th pixel: ~0.1 s a call) over and
 # over, so that one call or another ends while the interpreter exits; then the main thread
@@ -103,7 +103,8 @@ def test_ctrl_c_stops_a_call_on_the_main_thread(ycb_db):
     # Without a thread: SIGINT while the main thread is in recognize() raises KeyboardInterrupt
     # from the call within a stop point or two, not when the call would have ended; then the
     # same call answers as before (nothing left half-done).
-    frame = proxseg.read_point_cloud(data("mosd/learn/learn0.pcd"))
+    f = ycb_frame(1)  # ~1 s: segmentation, then the candidates described and aligned
+    frame = proxseg.read_rgbd(f["color"], f["depth"], meta=f["meta"])
     db = proxseg.Database(ycb_db)
     start = time.monotonic()
     whole = proxseg.recognize(frame, db)
