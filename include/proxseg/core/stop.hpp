@@ -1,6 +1,7 @@
 // Stopping a long computation from outside: segment() and recognition check the StopToken of the
-// thread that called them at their stop points (between segmentation stages, per candidate, per
-// batch of views and per view aligned) and throw Stopped there. A computation never stopped
+// thread that called them at their stop points (between segmentation stages and describing
+// steps, per candidate, per batch of views, per view aligned, every 256 RANSAC attempts) and
+// throw Stopped there. A computation never stopped
 // answers as if there were no token: the checks read a flag and change nothing. The Python
 // module stops its calls this way when the interpreter exits or a signal handler raises
 // (KeyboardInterrupt).
