@@ -36,11 +36,16 @@ started.wait()
 if sys.argv[3] == "exit":
     threading.Event().wait(float(sys.argv[4]))
     sys.exit(5)
-print("joining", flush=True)
+# SIGINT to the main thread. Sent to the process from outside, 1 run in ~10 hung in join()
+# without a traceback, before the fix as after: delivered to another thread, it seems, which
+# does not wake the main thread's wait (not proxseg's to fix; not what this test is about).
+import signal
+threading.Timer(float(sys.argv[4]), signal.pthread_kill,
+                (threading.main_thread().ident, signal.SIGINT)).start()
 workers[0].join()
 """
 
-# Runs of each kind: before the fix 4 of 4 "exit" runs aborted (8 of 8 of the measurement).
+# Runs of each kind: before the fix 7 of these 8 runs aborted (16 of 16 with the parent's kill).
 RUNS = 4
 
 
@@ -48,10 +53,6 @@ def run_script(ycb_db, how: str, delay: float) -> subprocess.CompletedProcess:
     child = subprocess.Popen(
         [sys.executable, "-c", SCRIPT, str(data("mosd/learn/learn0.pcd")), str(ycb_db), how,
          str(delay)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if how == "join":
-        assert child.stdout.readline() == "joining\n"
-        time.sleep(delay)
-        child.send_signal(signal.SIGINT)
     try:
         out, err = child.communicate(timeout=30)
     except subprocess.TimeoutExpired:
