@@ -20,6 +20,9 @@ not depend on the number of threads. Importing the module keeps freed memory in 
 the next frame, as the CLI does (PROXSEG_KEEP_FREED_MEMORY=0 before the import: not).
 """
 
+import atexit as _atexit
+
+from . import _proxseg
 from ._proxseg import Frame, __version__, build_info
 from ._frame import as_frame, from_rgbd, read_point_cloud, read_rgbd, write_point_cloud
 from ._open3d import from_open3d, to_open3d
@@ -34,3 +37,9 @@ __all__ = [
     "from_open3d", "from_rgbd", "label_colors", "label_colours", "parameters", "read_point_cloud",
     "read_rgbd", "recognize", "recognize_object", "segment", "to_open3d", "write_point_cloud",
 ]
+
+# At exit, the computations still running (on daemon threads: the others have been joined) are
+# stopped, and waited for up to 5 s, before the interpreter finalizes: one that ended while it
+# finalized aborted the process. Not threading._register_atexit, which runs before non-daemon
+# threads are joined and would stop their calls too. Calls begun later raise SystemExit.
+_atexit.register(_proxseg._stop_calls, 5.0)

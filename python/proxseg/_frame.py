@@ -128,7 +128,8 @@ def as_frame(data: Any, rgb: Any = None) -> Frame:
     ----------
     data : Frame, str or os.PathLike, array-like, or Open3D geometry
         A Frame as it is; a path read by :func:`read_point_cloud`; points (N, 3) or (H, W, 3)
-        in metres (a numpy array, nested lists, anything ``numpy.asarray`` takes); an Open3D
+        in metres (a numpy array, nested lists, a buffer such as a ``memoryview``: anything
+        ``numpy.asarray`` takes, as :class:`Frame` does); an Open3D
         PointCloud (:func:`from_open3d`: organized when it holds an image grid it can
         recognise; pass ``from_open3d(cloud, shape=(H, W))`` to be sure) or RGBDImage (which
         needs its camera: ``from_open3d(rgbd, intrinsic)``).
@@ -149,10 +150,21 @@ def as_frame(data: Any, rgb: Any = None) -> Frame:
         from ._open3d import from_open3d  # imports this module
 
         return from_open3d(data)
-    if isinstance(data, (np.ndarray, list, tuple)) or hasattr(data, "__array__"):
+    if isinstance(data, (np.ndarray, list, tuple)) or hasattr(data, "__array__") or \
+            _is_buffer(data):
         return Frame(data, rgb)
     raise TypeError(f"{type(data).__name__}: expected a proxseg.Frame, a path, an array of "
                     "points (N, 3) or (H, W, 3), or an Open3D PointCloud / RGBDImage")
+
+
+def _is_buffer(data: Any) -> bool:
+    """Whether data has the buffer protocol (memoryview, array.array, ...), which Frame, through
+    numpy.asarray, takes as well as arrays."""
+    try:
+        memoryview(data)
+    except TypeError:
+        return False
+    return True
 
 
 def write_point_cloud(path: PathLike, frame: Frame, *, fields: Optional[Dict[str, Any]] = None,

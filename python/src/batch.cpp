@@ -11,6 +11,7 @@
 
 #include "bindings.hpp"
 #include "database.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 namespace {
@@ -68,10 +69,9 @@ void bind_batch_frames(py::module_& m) {
       [](const std::vector<std::string>& sources, const std::string& colour,
          const std::string& depth, const std::string& meta, const std::string& intrinsics) {
         std::vector<FrameSource> frames;
-        {
-          py::gil_scoped_release release;
+        without_gil([&] {
           frames = discover_frames(sources, RgbdNaming{colour, depth, meta, intrinsics});
-        }
+        });
         return to_list(frames);
       },
       py::arg("sources"), py::arg("color"), py::arg("depth"), py::arg("meta"),
@@ -88,10 +88,7 @@ void bind_batch_frames(py::module_& m) {
         plan.runner = "dask";
         const nlohmann::json h = python_to_json(header);
         BatchStart b;
-        {
-          py::gil_scoped_release release;
-          b = start_batch(plan, out_dir, h);
-        }
+        without_gil([&] { b = start_batch(plan, out_dir, h); });
         py::dict out;
         out["frames"] = b.frames.size();
         out["todo"] = to_list(b.todo);
@@ -112,10 +109,7 @@ void bind_batch_frames(py::module_& m) {
                              params_from_json(python_to_json(params))};
         const FrameSource source = from_dict(frame);
         nlohmann::json row;
-        {
-          py::gil_scoped_release release;
-          row = segment_frame(source, job);
-        }
+        without_gil([&] { row = segment_frame(source, job); });
         return json_to_python(row);
       },
       py::arg("frame"), py::arg("out_dir"), py::arg("outputs"), py::arg("params"));
@@ -132,10 +126,7 @@ void bind_batch_frames(py::module_& m) {
                                load_ms};
         const FrameSource source = from_dict(frame);
         nlohmann::json row;
-        {
-          py::gil_scoped_release release;
-          row = recognize_frame(source, job, *db.snapshot());
-        }
+        without_gil([&] { row = recognize_frame(source, job, *db.snapshot()); });
         return json_to_python(row);
       },
       py::arg("frame"), py::arg("out_dir"), py::arg("outputs"), py::arg("segmentation"),
@@ -152,8 +143,7 @@ void bind_batch_logs(py::module_& m) {
       "_remove_stale_temporaries",
       [](const std::string& out_dir, const py::iterable& frames) {
         const auto list = from_list(frames);
-        py::gil_scoped_release release;
-        return remove_stale_temporaries(out_dir, list);
+        return without_gil([&] { return remove_stale_temporaries(out_dir, list); });
       },
       py::arg("out_dir"), py::arg("frames"));
   m.def(
@@ -167,10 +157,7 @@ void bind_batch_logs(py::module_& m) {
       "_frame_rows",
       [](const std::string& out_dir) {
         nlohmann::json rows;
-        {
-          py::gil_scoped_release release;
-          rows = frame_rows(out_dir);
-        }
+        without_gil([&] { rows = frame_rows(out_dir); });
         return json_to_python(rows);
       },
       py::arg("out_dir"));

@@ -11,6 +11,7 @@
 
 #include "bindings.hpp"
 #include "database.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 namespace {
@@ -47,14 +48,15 @@ py::class_<SharedDatabase> database_class(py::module_& m) {
   return py::class_<SharedDatabase>(m, "_Database")
       .def(py::init([](const std::string& path, bool create, double voxel_size,
                        double normal_radius, const std::vector<double>& fpfh_radii) {
-             py::gil_scoped_release release;
-             if (create) {
-               const bool given =
-                   !std::isnan(voxel_size) || !std::isnan(normal_radius) || !fpfh_radii.empty();
-               return std::make_unique<SharedDatabase>(open_database(
-                   path, descriptor_params(voxel_size, normal_radius, fpfh_radii), given));
-             }
-             return std::make_unique<SharedDatabase>(load_database(path));
+             return without_gil([&] {
+               if (create) {
+                 const bool given =
+                     !std::isnan(voxel_size) || !std::isnan(normal_radius) || !fpfh_radii.empty();
+                 return std::make_unique<SharedDatabase>(open_database(
+                     path, descriptor_params(voxel_size, normal_radius, fpfh_radii), given));
+               }
+               return std::make_unique<SharedDatabase>(load_database(path));
+             });
            }),
            py::arg("path"), py::arg("create"), py::arg("voxel_size"), py::arg("normal_radius"),
            py::arg("fpfh_radii"))
@@ -76,13 +78,12 @@ void add_database_reads(py::class_<SharedDatabase>& cls) {
                                     std::to_string(db->views.size()) + " views");
             const ModelView& v = db->views[i];
             std::vector<float> xyz;
-            {
-              py::gil_scoped_release release;  // a stored view's body is read here
+            without_gil([&] {  // a stored view's body is read here
               const Cloud& c = v.cloud();
               xyz.reserve(c.points.size() * 3);
               for (const auto& p : c.points)
                 for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
-            }
+            });
             py::dict out = view_dict(view_info(v));
             const auto n = static_cast<py::ssize_t>(xyz.size() / 3);
             out["xyz"] = to_numpy(std::move(xyz), {n, 3});
@@ -92,10 +93,7 @@ void add_database_reads(py::class_<SharedDatabase>& cls) {
            [](const SharedDatabase& d) { return json_to_python(database_info(*d.snapshot())); })
       .def("check", [](const SharedDatabase& d) {
         DatabaseCheck c;
-        {
-          py::gil_scoped_release release;
-          c = check_database(d.snapshot()->dir);
-        }
+        without_gil([&] { c = check_database(d.snapshot()->dir); });
         py::dict out;
         out["views"] = c.views;
         out["whole"] = c.whole;
@@ -109,15 +107,16 @@ void add_database_changes(py::class_<SharedDatabase>& cls) {
   cls.def(
          "remove",
          [](SharedDatabase& d, const std::string& object) {
-           py::gil_scoped_release release;
-           return d.change([&](Database& db) { return remove_object(db, object); });
+           return without_gil(
+               [&] { return d.change([&](Database& db) { return remove_object(db, object); }); });
          },
          py::arg("object"))
       .def(
           "rename",
           [](SharedDatabase& d, const std::string& from, const std::string& to) {
-            py::gil_scoped_release release;
-            return d.change([&](Database& db) { return rename_object(db, from, to); });
+            return without_gil([&] {
+              return d.change([&](Database& db) { return rename_object(db, from, to); });
+            });
           },
           py::arg("object"), py::arg("to"))
       .def(
@@ -126,13 +125,12 @@ void add_database_changes(py::class_<SharedDatabase>& cls) {
              const std::array<double, 3>& sensor, const std::string& source) {
             const Eigen::Vector3d viewpoint(sensor[0], sensor[1], sensor[2]);
             ViewInfo added;
-            {
-              py::gil_scoped_release release;
+            without_gil([&] {
               if (points.valid_count() == 0) throw InputError("points: no valid points");
               added = d.change([&](Database& db) {
                 return view_info(add_view(db, object, points, viewpoint, source));
               });
-            }
+            });
             return view_dict(added);
           },
           py::arg("object"), py::arg("points"), py::arg("viewpoint"), py::arg("source"))
@@ -141,34 +139,35 @@ void add_database_changes(py::class_<SharedDatabase>& cls) {
           [](SharedDatabase& d, const std::string& object, const std::string& mesh_path,
              double scale, int views, double distance, double depth_noise, std::uint32_t seed) {
             std::vector<ViewInfo> added;
-            py::gil_scoped_release release;
-            // The name is checked by add_view() too; here before the rendering's work.
-            if (object.empty() || object == kUnknown)
-              throw InputError("object name: expected a non-empty name other than \"unknown\"");
-            if (views < 1 || views > 1000) throw InputError("views: expected 1 to 1000");
-            if (!(distance >= 0) || !std::isfinite(distance))
-              throw InputError("distance: expected metres >= 0");
-            if (!(depth_noise >= 0 && depth_noise < 1))
-              throw InputError("depth_noise: expected metres in [0, 1)");
-            const Mesh mesh = read_mesh(mesh_path, scale);
-            check_mesh_units(mesh, mesh_path, scale == 1.0 ? "m" : "mm", "units=");
-            ViewSphereParams p;
-            p.views = views;
-            p.distance = distance;
-            p.depth_noise = depth_noise;
-            p.seed = seed;
-            const auto rendered = render_views(mesh, p);
-            for (std::size_t i = 0; i < rendered.size(); ++i) {
-              if (rendered[i].points.size() < 10) continue;  // the camera sees almost nothing
-              const auto& e = rendered[i].eye;
-              char source[512];
-              std::snprintf(source, sizeof source, "%s view %zu/%d, camera at (%.3f, %.3f, %.3f) m",
-                            mesh_path.c_str(), i + 1, views, e.x(), e.y(), e.z());
-              added.push_back(d.change([&](Database& db) {
-                return view_info(add_view(db, object, rendered[i].points, e, source));
-              }));
-            }
-            py::gil_scoped_acquire acquire;
+            without_gil([&] {
+              // The name is checked by add_view() too; here before the rendering's work.
+              if (object.empty() || object == kUnknown)
+                throw InputError("object name: expected a non-empty name other than \"unknown\"");
+              if (views < 1 || views > 1000) throw InputError("views: expected 1 to 1000");
+              if (!(distance >= 0) || !std::isfinite(distance))
+                throw InputError("distance: expected metres >= 0");
+              if (!(depth_noise >= 0 && depth_noise < 1))
+                throw InputError("depth_noise: expected metres in [0, 1)");
+              const Mesh mesh = read_mesh(mesh_path, scale);
+              check_mesh_units(mesh, mesh_path, scale == 1.0 ? "m" : "mm", "units=");
+              ViewSphereParams p;
+              p.views = views;
+              p.distance = distance;
+              p.depth_noise = depth_noise;
+              p.seed = seed;
+              const auto rendered = render_views(mesh, p);
+              for (std::size_t i = 0; i < rendered.size(); ++i) {
+                if (rendered[i].points.size() < 10) continue;  // the camera sees almost nothing
+                const auto& e = rendered[i].eye;
+                char source[512];
+                std::snprintf(source, sizeof source,
+                              "%s view %zu/%d, camera at (%.3f, %.3f, %.3f) m", mesh_path.c_str(),
+                              i + 1, views, e.x(), e.y(), e.z());
+                added.push_back(d.change([&](Database& db) {
+                  return view_info(add_view(db, object, rendered[i].points, e, source));
+                }));
+              }
+            });
             py::list out;
             for (const ViewInfo& v : added) out.append(view_dict(v));
             return out;

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "bindings.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 namespace {
@@ -124,8 +125,7 @@ template <class Depth>
 std::vector<Eigen::Vector3f> depth_points(const py::array& depth, const Intrinsics& k) {
   const auto d = py::array_t<Depth, py::array::c_style>::ensure(depth);
   const int h = static_cast<int>(depth.shape(0)), w = static_cast<int>(depth.shape(1));
-  py::gil_scoped_release release;
-  return back_project(d.data(), w, h, k);
+  return without_gil([&] { return back_project(d.data(), w, h, k); });
 }
 
 // color (H, W, 3) uint8 RGB or None, depth (H, W) uint16 (depth units) or float32 (units).
@@ -255,10 +255,11 @@ void bind_frame_io(py::module_& m) {
   m.def(
       "read_point_cloud",
       [](const std::string& path, const std::string& label_field) {
-        py::gil_scoped_release release;
-        if (lower_extension(path) == ".pcd") return read_pcd(path, label_field);
-        if (lower_extension(path) == ".ply") return read_ply(path, label_field);
-        return read_point_cloud(path);
+        return without_gil([&] {
+          if (lower_extension(path) == ".pcd") return read_pcd(path, label_field);
+          if (lower_extension(path) == ".ply") return read_ply(path, label_field);
+          return read_point_cloud(path);
+        });
       },
       py::arg("path"), py::arg("label_field") = "label",
       "Reads a .pcd (ascii, binary, binary_compressed; organized or not) or .ply point cloud.\n"
@@ -268,11 +269,12 @@ void bind_frame_io(py::module_& m) {
       "read_rgbd",
       [](const std::string& colour, const std::string& depth, const std::string& meta,
          const std::string& intrinsics) {
-        py::gil_scoped_release release;
-        if (meta.empty() == intrinsics.empty())
-          throw InputError("read_rgbd: give exactly one of meta= or intrinsics=");
-        const Intrinsics k = meta.empty() ? read_intrinsics(intrinsics) : read_ycb_meta(meta);
-        return read_rgbd(colour, depth, k);
+        return without_gil([&] {
+          if (meta.empty() == intrinsics.empty())
+            throw InputError("read_rgbd: give exactly one of meta= or intrinsics=");
+          const Intrinsics k = meta.empty() ? read_intrinsics(intrinsics) : read_ycb_meta(meta);
+          return read_rgbd(colour, depth, k);
+        });
       },
       py::arg("color"), py::arg("depth"), py::kw_only(), py::arg("meta") = "",
       py::arg("intrinsics") = "");
@@ -291,11 +293,13 @@ void bind_frame_io(py::module_& m) {
                              ")");
           extra.push_back({py::str(name), {a.data(), a.data() + a.size()}});
         }
-        py::gil_scoped_release release;
-        if (lower_extension(path) == ".ply")
-          write_ply(path, frame, extra, keep_invalid ? PlyPoints::kAll : PlyPoints::kValid);
-        else
-          write_pcd(path, frame, extra, compressed ? PcdData::kBinaryCompressed : PcdData::kBinary);
+        without_gil([&] {
+          if (lower_extension(path) == ".ply")
+            write_ply(path, frame, extra, keep_invalid ? PlyPoints::kAll : PlyPoints::kValid);
+          else
+            write_pcd(path, frame, extra,
+                      compressed ? PcdData::kBinaryCompressed : PcdData::kBinary);
+        });
       },
       py::arg("path"), py::arg("frame"), py::arg("fields"), py::arg("compressed"),
       py::arg("keep_invalid"));

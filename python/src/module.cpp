@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "bindings.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 
@@ -144,4 +145,5 @@ PYBIND11_MODULE(_proxseg, m) {
   bind_database(m);
   bind_recognition(m);
   bind_batch(m);
+  bind_stop(m);
 }

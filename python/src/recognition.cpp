@@ -11,6 +11,7 @@
 #include "bindings.hpp"
 #include "database.hpp"
 #include "segment.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 namespace {
@@ -79,10 +80,9 @@ void bind_recognition_outputs(py::module_& m) {
       [](const std::string& prefix, const Frame& frame, const RecognitionOutput& out,
          const std::string& outputs) {
         const OutputSet set = parse_outputs(outputs, "outputs");
-        {
-          py::gil_scoped_release release;
+        without_gil([&] {
           write_recognition(prefix, frame, out.objects, *out.db, out.report, out.scene, set);
-        }
+        });
         std::vector<std::string> files;
         for (const std::string& f : output_files(prefix, set, true))
           if (out.scene || f == prefix + ".json" || f == prefix + ".png") files.push_back(f);
@@ -92,9 +92,10 @@ void bind_recognition_outputs(py::module_& m) {
   m.def(
       "_recognition_view_page",
       [](const Frame& frame, const RecognitionOutput& out, const std::string& title) {
-        py::gil_scoped_release release;
-        return view_page(frame, {{"object", recognition_labels(frame, out.objects)}}, out.report,
-                         {ViewOptions{}.max_points, title});
+        return without_gil([&] {
+          return view_page(frame, {{"object", recognition_labels(frame, out.objects)}}, out.report,
+                           {ViewOptions{}.max_points, title});
+        });
       },
       py::arg("frame"), py::arg("output"), py::arg("title"),
       "The 3D page (io/view_page.hpp) of a recognised scene.");
@@ -123,8 +124,7 @@ void bind_recognition_calls(py::module_& m) {
         double segment_ms = 0, recognize_ms = 0;
         const std::shared_ptr<const Database> snapshot = non_empty(d);
         const Database& db = *snapshot;
-        {
-          py::gil_scoped_release release;
+        without_gil([&] {
           auto t = std::chrono::steady_clock::now();
           segmentation = segment(frame, seg);
           segment_ms = ms_since(t);
@@ -132,7 +132,7 @@ void bind_recognition_calls(py::module_& m) {
           objects = recognize_scene(frame, segmentation.selection, db, rec);
           recognize_ms = ms_since(t);
           ids = recognition_labels(frame, objects);
-        }
+        });
         py::dict out;
         out["output"] = recognition_output(objects, snapshot, input, rec, &seg,
                                            {{"segment", segment_ms},
@@ -157,12 +157,11 @@ void bind_recognition_calls(py::module_& m) {
         std::vector<SceneObject> objects;
         double recognize_ms = 0;
         const std::shared_ptr<const Database> db = non_empty(d);
-        {
-          py::gil_scoped_release release;
+        without_gil([&] {
           const auto t = std::chrono::steady_clock::now();
           objects.push_back(recognize_object(cloud, *db, rec));
           recognize_ms = ms_since(t);
-        }
+        });
         py::dict out;
         out["output"] = recognition_output(objects, db, input, rec, nullptr,
                                            {{"recognize", recognize_ms}, {"total", recognize_ms}});

@@ -9,6 +9,7 @@
 
 #include "bindings.hpp"
 #include "segment.hpp"
+#include "stop.hpp"
 
 namespace proxseg::python {
 
@@ -50,11 +51,7 @@ void bind_segment_calls(py::module_& m) {
       "_segment",
       [](const Frame& frame, const py::dict& params) {
         const SegmentParams p = segment_params(params);
-        SegmentResult r;
-        {
-          py::gil_scoped_release release;
-          r = segment(frame, p);
-        }
+        SegmentResult r = without_gil([&] { return segment(frame, p); });
         return segmentation_dict(frame, p, std::move(r));
       },
       py::arg("frame"), py::arg("params"));
@@ -73,9 +70,10 @@ void bind_segment_calls(py::module_& m) {
                                          i = values(instances, "instances");
         const nlohmann::json r = python_to_json(report);
         const OutputSet set = parse_outputs(outputs, "outputs");
-        py::gil_scoped_release release;
-        write_segmentation(prefix, frame, l, i, r, set, threads);
-        return output_files(prefix, set, false);
+        return without_gil([&] {
+          write_segmentation(prefix, frame, l, i, r, set, threads);
+          return output_files(prefix, set, false);
+        });
       },
       py::arg("prefix"), py::arg("frame"), py::arg("labels"), py::arg("instances"),
       py::arg("report"), py::arg("outputs"), py::arg("threads"));
@@ -97,8 +95,9 @@ void bind_segment_outputs(py::module_& m) {
           f.push_back({pair.first, std::vector<std::uint32_t>(u.data(), u.data() + u.size())});
         }
         const nlohmann::json r = python_to_json(report);
-        py::gil_scoped_release release;
-        return view_page(frame, f, r, {ViewOptions{}.max_points, title});
+        return without_gil([&] {
+          return view_page(frame, f, r, {ViewOptions{}.max_points, title});
+        });
       },
       py::arg("frame"), py::arg("fields"), py::arg("report"), py::arg("title"),
       "The 3D page (io/view_page.hpp) of frame with its per-point fields [(name, ids)].");

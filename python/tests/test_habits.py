@@ -31,6 +31,33 @@ def test_array_likes_and_float_colours_in_unit_range(learn0):
     assert np.array_equal(floats.rgb, learn0.rgb)
 
 
+def test_buffer_objects_are_frames_at_every_entry_point(learn0, ycb_db, tmp_path):
+    # What Frame() takes (anything numpy.asarray takes: memoryview, array.array, ...) every entry
+    # point that takes a cloud takes too; before, segment(memoryview) was refused (issue 54.9).
+    xyz = np.ascontiguousarray(learn0.xyz[::4, ::4])
+    rgb = np.ascontiguousarray(learn0.rgb[::4, ::4])
+    frame = proxseg.Frame(xyz, rgb)
+    assert np.array_equal(proxseg.Frame(memoryview(xyz), memoryview(rgb)).xyz, frame.xyz,
+                          equal_nan=True)
+    expected = proxseg.segment(frame)
+    got = proxseg.segment(memoryview(xyz), rgb=memoryview(rgb))
+    assert np.array_equal(got.labels, expected.labels)
+    assert np.array_equal(proxseg.as_frame(memoryview(xyz)).xyz, frame.xyz, equal_nan=True)
+    db = proxseg.Database(ycb_db)
+    scene = proxseg.recognize(memoryview(xyz), db, rgb=memoryview(rgb))
+    assert scene.names == proxseg.recognize(frame, db).names
+    points = np.ascontiguousarray(xyz.reshape(-1, 3)[np.isfinite(xyz.reshape(-1, 3)).all(1)][:500])
+    assert proxseg.recognize_object(memoryview(points), db).names == \
+        proxseg.recognize_object(points, db).names
+    copy = proxseg.Database(tmp_path / "db", create=True)
+    assert copy.add_view("thing", memoryview(points))["points"] > 0
+    # a buffer of what is no number (bytes: characters) is refused alike
+    with pytest.raises(TypeError, match="bytes is not array-like"):
+        proxseg.Frame(b"123")
+    with pytest.raises(TypeError, match="bytes is not array-like"):
+        proxseg.segment(b"123")
+
+
 def test_errors_are_concise_whatever_the_input_size():
     big = [[0.0, 0.0, 1.0]] * 1_000_000  # ~14 MB as text
     for call in (lambda: proxseg.Frame(big, "no colours"), lambda: proxseg.Frame(object()),

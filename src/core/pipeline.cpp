@@ -1,6 +1,7 @@
 // segment(): the paper's sections 3.1-3.3, top to bottom.
 #include <proxseg/core/errors.hpp>
 #include <proxseg/core/pipeline.hpp>
+#include <proxseg/core/stop.hpp>
 
 #include "image_selection_detail.hpp"
 #include "util/nearest_points.hpp"
@@ -118,7 +119,8 @@ bool on_image_grid(const SegmentParams& params, const Frame& frame) {
 
 // Stages 1-6, the paper's labels [3.1-3.2]. On an organized frame with the image-grid selection
 // its geometry (read_geometry) runs on a second thread beside stages 3-6, after the features and
-// the principal axes, which use every thread themselves.
+// the principal axes, which use every thread themselves. Stop points between the stages, on the
+// calling thread (run_beside() waits for the geometry before it rethrows).
 void paper_labels(const Frame& frame, const SegmentParams& params,
                   const std::function<void(const std::vector<char>&)>& read_geometry,
                   SegmentResult& r) {
@@ -133,10 +135,12 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
   if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
   r.times_ms.emplace_back("voxels", watch.lap());
+  stop_point();
 
   // 2. Features [3.1]: colour | texture | shape per voxel.
   r.features = voxel_features(frame, r.voxels, r.clustered, features, params.threads);
   r.times_ms.emplace_back("features", watch.lap());
+  stop_point();
 
   // 3. Initial clustering [Algorithm 1] on the principal axes of the features.
   // The block weights were applied by voxel_features; balancing re-applies them after equalising.
@@ -162,6 +166,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
     r.labels_kmeans = km.labels;
     r.kmeans_iterations_run = km.iterations;
     r.times_ms.emplace_back("kmeans", watch.lap());
+    stop_point();
 
     // 5. MRF [3.2, eq. 1-3]: Potts model over the voxel graph, minimised by graph cuts.
     MrfProblem problem{unary_potentials(x, r.centroids, params.mrf.unary_weight), edge_list(graph),
@@ -177,6 +182,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
       r.mrf_cycles_run = mrf.cycles;
     }
     r.times_ms.emplace_back("mrf", watch.lap());
+    stop_point();
 
     // 6. Labels back to points; sparse voxels take their nearest clustered neighbour's label.
     const std::vector<int> source = label_sources(frame, r.voxels, r.clustered);
@@ -245,6 +251,7 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
     throw InputError("frame: " + std::to_string(frame.rgb.size()) + " colours for " +
                      std::to_string(frame.size()) + " points (expected one per point, or none)");
   SegmentResult r;
+  stop_point();  // between stages only: no helper thread of a stage is running then
   detail::Stopwatch whole;
   // An XYZ-only frame: the colour and texture blocks are off for this call, as if not asked for.
   r.blocks = feature_blocks(params.features, frame.coloured(), frame.organized());
@@ -281,6 +288,7 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
     r.times_ms.emplace_back("image_surfaces", surfaces_ms);
   }
 
+  stop_point();
   // 7. Selection [3.3]: connected same-label clusters, split at weak links, kept by size; on an
   // organized frame by default the geometry is read on the image grid instead of the voxels.
   detail::Stopwatch watch;
@@ -292,6 +300,7 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
   for (const auto& [step, ms] : r.selection.steps_ms)
     r.steps_ms.emplace_back("selection/" + step, ms);
   r.total_ms = whole.lap();
+  stop_point();  // a stopped call throws rather than return what it has
   return r;
 }
 

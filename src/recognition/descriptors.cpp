@@ -3,6 +3,7 @@
 // registration.
 #include <proxseg/core/errors.hpp>
 #include <proxseg/core/frame.hpp>
+#include <proxseg/core/stop.hpp>
 #include <proxseg/recognition/registration.hpp>
 
 #include "fpfh.hpp"
@@ -150,6 +151,7 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
   constexpr int kNormalNeighbours = 30;
   std::vector<Eigen::Vector3d> normals =
       estimate_normals(kept, params.normal_radius, kNormalNeighbours);
+  stop_point();  // between the describing's dear steps (normals, FPFH), on the calling thread
   Cloud c;
   c.points = std::move(kept);
   c.colours = std::move(kept_colours);
@@ -169,6 +171,7 @@ Cloud describe_filtered(const std::vector<Eigen::Vector3d>& points,
       fpfh_features(c.points, c.normals, params.fpfh_radii, kMaxNeighbours).unaryExpr([](double x) {
         return to_float_precision(x);
       });
+  stop_point();
   c.index = build_index(c);
   c.spacing = median_spacing(c);
   c.signature = make_signature(c);

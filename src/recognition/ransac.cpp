@@ -1,6 +1,7 @@
 // RANSAC [paper 3.4, Algorithm 2]: feature correspondences between a candidate and a view,
 // two-point samples pre-rejected by their point-pair feature (the correspondence check), and the
 // best distinct hypotheses refitted and judged by their overlap (ransac.hpp).
+#include <proxseg/core/stop.hpp>
 #include <proxseg/recognition/registration.hpp>
 
 #include "colour_scores.hpp"
@@ -268,6 +269,7 @@ std::vector<Hypothesis> ransac(const Cloud& cand, const Cloud& view,
   int valid = 0;
   const long attempts = 50L * p.ransac_iterations;
   for (long a = 0; a < attempts && valid < p.ransac_iterations; ++a) {
+    if (a % 256 == 0) stop_point();  // an alignment can take 100 ms: Ctrl-C within a few ms
     const std::size_t s0 = pick(rng), s1 = pick(rng);
     if (s0 == s1) continue;
     if (!alike_in_both(cand, view, c[s0], c[s1], p, min_edge, cos_tol)) continue;

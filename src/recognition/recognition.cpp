@@ -2,6 +2,7 @@
 // of the database in batches, named after the best view's object when its score is clear of the
 // runner-up's (or the look-alike vote decides), "unknown" otherwise.
 #include <proxseg/core/errors.hpp>
+#include <proxseg/core/stop.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include "util/first_error.hpp"
@@ -130,6 +131,7 @@ struct BatchAligner {
     const int v = views[k];
     const Cloud* view = nullptr;
     try {  // a stored view is read here, the first time it is shortlisted
+      stop_point();
       view = &db.views[v].cloud();
     } catch (const InputError& e) {
       unreadable[k] = e.what();
@@ -159,8 +161,13 @@ struct BatchAligner {
 #pragma omp taskloop grainsize(1) shared(views, r, done, unreadable, failure)
       for (int k = begin; k < end; ++k) align_one(views, k, r, done, unreadable, failure);
     } else {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-      for (int k = begin; k < end; ++k) align_one(views, k, r, done, unreadable, failure);
+      StopToken* const stop = current_stop_token();  // the team's threads check the caller's
+#pragma omp parallel num_threads(threads)
+      {
+        const StopScope inherit(stop, false);
+#pragma omp for schedule(dynamic, 1)
+        for (int k = begin; k < end; ++k) align_one(views, k, r, done, unreadable, failure);
+      }
     }
     failure.rethrow();
   }
@@ -279,6 +286,7 @@ Recognition recognize(const Cloud& candidate, const Database& db,
   const BatchAligner align_batch{candidate, sample, db, params, scene, threads};
   const int m = static_cast<int>(views.size());
   for (int begin = 0; begin < m; begin += kBatch) {
+    stop_point();
     const int end = std::min(m, begin + kBatch);
     align_batch(views, begin, end, r, done, unreadable);
     r.views_aligned = end;

@@ -3,6 +3,7 @@
 // a model explains only partly are split, near pieces that one model explains better together
 // are merged); and one object given as a cloud of its own.
 #include <proxseg/core/errors.hpp>
+#include <proxseg/core/stop.hpp>
 #include <proxseg/recognition/recognition.hpp>
 
 #include "util/first_error.hpp"
@@ -162,18 +163,23 @@ std::vector<Piece> recognize_candidates(const Selection& selection,
   const int threads =
       recognize_piece.params.threads > 0 ? recognize_piece.params.threads : omp_get_max_threads();
   detail::FirstError failure;
+  StopToken* const stop = current_stop_token();  // the team's threads check the caller's
 #pragma omp parallel num_threads(threads)
+  {
+    const StopScope inherit(stop, false);
 #pragma omp single
-  for (const int k : by_size) {
+    for (const int k : by_size) {
 #pragma omp task firstprivate(k)
-    {
-      const Candidate& c = *candidates[k];
-      try {
-        if (!failure.failed())
-          made[k] = recognize_piece(
-              scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate), first[k]);
-      } catch (...) {
-        failure.capture();
+      {
+        const Candidate& c = *candidates[k];
+        try {
+          stop_point();
+          if (!failure.failed())
+            made[k] = recognize_piece(
+                scene_object(c.points, {c.instance}, SceneObject::Origin::kCandidate), first[k]);
+        } catch (...) {
+          failure.capture();
+        }
       }
     }
   }
