@@ -101,7 +101,9 @@ namespace {
 
 // Stage 1 found nothing to work on: no valid point at all, or none within the voxels' reach, the
 // voxel side's fault (orders of magnitude too small), not the frame's: say which.
-[[noreturn]] void nothing_to_segment(const Frame& frame, double voxel_size, std::size_t valid) {
+[[noreturn]] void nothing_to_segment(const Frame& frame, const VoxelGrid& grid) {
+  const double voxel_size = grid.voxel_size;
+  const std::size_t valid = grid.valid_points;
   if (valid == 0) throw InputError("frame: no valid points to segment");
   double farthest = 0;  // the largest coordinate of a valid point, in metres
   for (std::size_t i = 0; i < frame.size(); ++i)
@@ -129,8 +131,7 @@ void paper_labels(const Frame& frame, const SegmentParams& params,
 
   // 1. Voxels [3.1]: 2 cm cells and their occupied 26-neighbours; sparse cells wait until the end.
   r.voxels = build_voxels(frame, params.voxels.voxel_size);
-  if (r.voxels.size() == 0)
-    nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
+  if (r.voxels.size() == 0) nothing_to_segment(frame, r.voxels);
   r.clustered = dense_voxels(r.voxels, params.voxels.min_points_per_voxel);
   if (r.clustered.empty()) r.clustered = dense_voxels(r.voxels, 1);  // all cells are sparse
   const std::vector<std::vector<int>> graph = induced_neighbours(r.voxels, r.clustered);
@@ -281,8 +282,7 @@ SegmentResult segment_stages(const Frame& frame, const SegmentParams& params) {
     r.voxels.voxel_size = params.voxels.voxel_size;
     const std::vector<char> within = voxelisable(frame, params.voxels.voxel_size,
                                                  r.voxels.valid_points, r.voxels.voxelised_points);
-    if (r.voxels.voxelised_points == 0)
-      nothing_to_segment(frame, params.voxels.voxel_size, r.voxels.valid_points);
+    if (r.voxels.voxelised_points == 0) nothing_to_segment(frame, r.voxels);
     read_geometry(within, params.threads);
     surface_labels(surfaces, within, r);
     r.times_ms.emplace_back("image_surfaces", surfaces_ms);
